@@ -14,7 +14,7 @@ endif()
 # (which would boot the whole C++ core).
 execute_process(
   COMMAND ${Python3_EXECUTABLE} -c
-    "import runpy,sys,os; c=runpy.run_path(sys.argv[1]); print(c['version']); print(','.join(f for f in c['features'] if f)); print(c['highPrecisionBits']); print(os.path.relpath(c['libDir'], c['prefix']))"
+    "import runpy,sys,os; c=runpy.run_path(sys.argv[1]); print(c['version']); print(','.join(f for f in c['features'] if f)); print(c['highPrecisionBits']); print(os.path.relpath(c['libDir'], c['prefix'])); print(c['prefix']); print(c['suffix'])"
     "${_yade_config}"
   OUTPUT_VARIABLE _yade_info OUTPUT_STRIP_TRAILING_WHITESPACE RESULT_VARIABLE _rc)
 if(NOT _rc EQUAL 0)
@@ -25,6 +25,8 @@ list(GET _yade_info 0 YADE_VERSION)
 list(GET _yade_info 1 _features)
 list(GET _yade_info 2 YADE_REAL_BITS)
 list(GET _yade_info 3 YADE_LIBDIR_RELATIVE)  # e.g. lib/x86_64-linux-gnu/yade-double, below the prefix
+list(GET _yade_info 4 YADE_PREFIX)            # /usr for Debian's package
+list(GET _yade_info 5 YADE_SUFFIX)            # -double
 string(REPLACE "," ";" YADE_FEATURES "${_features}")
 if(NOT YADE_REAL_BITS EQUAL 64)
   message(FATAL_ERROR "ViscBridge supports the double-precision YADE (yade-double), found ${YADE_REAL_BITS}-bit Real.")
@@ -81,7 +83,8 @@ if("GTS" IN_LIST YADE_FEATURES)
 endif()
 
 # Mirror the installed library directory into PREFIX/<libPATH>/yade<suffix>, plus a link to
-# PLUGIN_FILE (which need not exist yet).
+# PLUGIN_FILE (which need not exist yet).  yade-batch starts its jobs with PREFIX/bin/yade<suffix>,
+# so that is linked too.
 function(yade_make_overlay prefix plugin_file)
   set(dir "${prefix}/${YADE_LIBDIR_RELATIVE}")
   file(REMOVE_RECURSE "${prefix}")
@@ -92,5 +95,7 @@ function(yade_make_overlay prefix plugin_file)
   endforeach()
   get_filename_component(name "${plugin_file}" NAME)
   file(CREATE_LINK "${plugin_file}" "${dir}/${name}" SYMBOLIC)
+  file(MAKE_DIRECTORY "${prefix}/bin")
+  file(CREATE_LINK "${YADE_PREFIX}/bin/yade${YADE_SUFFIX}" "${prefix}/bin/yade${YADE_SUFFIX}" SYMBOLIC)
   set(YADE_OVERLAY_PREFIX "${prefix}" PARENT_SCOPE)
 endfunction()

@@ -6,7 +6,6 @@
 
 namespace yade {
 
-YADE_PLUGIN((ViscBridgeHeaderProbe));
 
 boost::python::dict ViscBridgeHeaderProbe::read() const
 {

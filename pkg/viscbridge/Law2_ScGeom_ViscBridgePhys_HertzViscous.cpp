@@ -1,0 +1,151 @@
+#include "Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
+#include "physics/ModelNames.hpp"
+#include "physics/PairKernel.hpp"
+#include <core/Scene.hpp>
+#include <array>
+#include <tuple>
+#include <utility>
+
+namespace yade {
+
+CREATE_LOGGER(Law2_ScGeom_ViscBridgePhys_HertzViscous);
+
+namespace {
+	using Law2 = Law2_ScGeom_ViscBridgePhys_HertzViscous;
+	namespace vb = viscbridge;
+
+	// The sub-models in the order of their names in physics/ModelNames.hpp.
+	using NormalModels     = std::tuple<vb::NoNormalViscous, vb::AdamsPerchard, vb::Pitois>;
+	using TangentialModels = std::tuple<vb::NoTangentialViscous, vb::WashinoTangential, vb::SlipTangential, vb::GoldmanTangential>;
+	using DampingModels    = std::tuple<vb::NoContactDamping, vb::RestitutionContactDamping>;
+	constexpr std::size_t nNormal = std::tuple_size_v<NormalModels>, nTangential = std::tuple_size_v<TangentialModels>,
+	                      nDamping = std::tuple_size_v<DampingModels>;
+
+	// Each sub-model's parameters, from the interaction's physics.
+	template <class M> M makeModel(const ViscBridgePhys&) { return M {}; }
+	template <> vb::AdamsPerchard makeModel(const ViscBridgePhys& p) { return vb::AdamsPerchard(p.viscosity, p.rEff); }
+	template <> vb::Pitois        makeModel(const ViscBridgePhys& p) { return vb::Pitois(p.viscosity, p.rEff, p.bridgeVolume); }
+	template <> vb::WashinoTangential makeModel(const ViscBridgePhys& p) { return vb::WashinoTangential(p.viscosity, p.rEff); }
+	template <> vb::SlipTangential    makeModel(const ViscBridgePhys& p) { return vb::SlipTangential(p.viscosity, p.rEff); }
+	template <> vb::GoldmanTangential makeModel(const ViscBridgePhys& p) { return vb::GoldmanTangential(p.viscosity, p.rEff); }
+	template <> vb::RestitutionContactDamping makeModel(const ViscBridgePhys& p) { return vb::RestitutionContactDamping { p.betan, p.betas }; }
+
+	using Kernel = bool (*)(Law2&, ScGeom&, ViscBridgePhys&, Interaction*);
+
+	// One interaction step with the models N, T, D fixed at compile time; E: track energy.
+	template <class N, class T, class D, bool E> bool explicitKernel(Law2& law, ScGeom& geom, ViscBridgePhys& ph, Interaction* I)
+	{
+		Scene*           scene = law.scene;
+		const Body::id_t id1 = I->getId1(), id2 = I->getId2();
+		const State*     s1 = Body::byId(id1, scene)->state.get();
+		const State*     s2 = Body::byId(id2, scene)->state.get();
+		const bool       periodic = scene->isPeriodic;
+		const Vector3r   shift2   = periodic ? scene->cell->intrShiftPos(I->cellDist) : Vector3r::Zero();
+		const Vector3r   shiftVel = periodic ? scene->cell->intrShiftVel(I->cellDist) : Vector3r::Zero();
+
+		vb::PairInput in;
+		in.n            = geom.normal;
+		in.S            = -geom.penetrationDepth;
+		in.contactPoint = geom.contactPoint;
+		in.b1           = { s1->pos, s1->vel, s1->angVel, ph.radius1 };
+		in.b2           = { s2->pos + shift2, s2->vel + shiftVel, s2->angVel, ph.radius2 };
+		if constexpr (D::enabled) in.contactRelVel = geom.getIncidentVel(s1, s2, scene->dt, shift2, shiftVel, /*avoidGranularRatcheting*/ false);
+		else in.contactRelVel = Vector3r::Zero();
+		in.shearIncrement = geom.shearIncrement();
+		in.dt             = scene->dt;
+
+		vb::PairState st;
+		st.shearElastic = geom.rotate(ph.shearElastic);
+		st.bridge       = ph.bridge;
+
+		const vb::PairModels<N, T, D> models { makeModel<N>(ph), makeModel<T>(ph), makeModel<D>(ph) };
+		const vb::PairParams          params { { ph.kno, ph.kso, ph.tangensOfFrictionAngle }, ph.mEff, ph.sMin, ph.sRup, ph.formationDistance };
+		vb::PairOutput                out;
+		const bool                    keep = vb::evaluatePair<E>(models, params, st, in, out);
+		ph.bridge                          = st.bridge;
+		ph.separation                      = in.S;
+		if (!keep) return false;
+
+		ph.shearElastic       = st.shearElastic;
+		ph.kn                 = out.kn;
+		ph.ks                 = out.ks;
+		ph.cn                 = out.cn;
+		ph.ct                 = out.ct;
+		ph.cr                 = out.cr;
+		ph.normalContactForce = out.normalContact;
+		ph.shearContactForce  = out.shearContact;
+		ph.normalViscousForce = out.normalViscous;
+		ph.shearViscousForce  = out.shearViscous;
+		ph.normalForce        = -(out.normalContact + out.normalViscous); // YADE sense: sustained by body 2
+		ph.shearForce         = -(out.shearContact + out.shearViscous);
+
+		scene->forces.addForce(id1, out.force1);
+		scene->forces.addForce(id2, -out.force1);
+		scene->forces.addTorque(id1, out.torque1);
+		scene->forces.addTorque(id2, out.torque2);
+
+		if constexpr (E) {
+			if constexpr (N::enabled) law.addEnergy(out.dissipNormal, "viscDissipNormal", law.viscDissipNormalIx, false);
+			if constexpr (T::enabled) {
+				law.addEnergy(out.dissipTangential, "viscDissipTangential", law.viscDissipTangentialIx, false);
+				law.addEnergy(out.dissipRotational, "viscDissipRotational", law.viscDissipRotationalIx, false);
+			}
+			if constexpr (D::enabled) law.addEnergy(out.dissipContactDamping, "contactDampDissip", law.contactDampDissipIx, false);
+			law.addEnergy(out.dissipFriction, "plastDissip", law.plastDissipIx, false);
+			law.addEnergy(out.elasticPotential, "elastPotential", law.elastPotentialIx, true);
+		}
+		return true;
+	}
+
+	template <std::size_t K> constexpr Kernel kernelAt()
+	{
+		constexpr std::size_t e = K % 2, d = (K / 2) % nDamping, t = (K / (2 * nDamping)) % nTangential, n = K / (2 * nDamping * nTangential);
+		return &explicitKernel<std::tuple_element_t<n, NormalModels>, std::tuple_element_t<t, TangentialModels>, std::tuple_element_t<d, DampingModels>, e == 1>;
+	}
+	template <std::size_t... K> constexpr std::array<Kernel, sizeof...(K)> makeKernelTable(std::index_sequence<K...>) { return { kernelAt<K>()... }; }
+	constexpr auto explicitKernels = makeKernelTable(std::make_index_sequence<nNormal * nTangential * nDamping * 2>());
+
+	inline std::size_t kernelIndex(const ViscBridgePhys& ph, bool trackEnergy)
+	{
+		const std::size_t damping = (ph.betan > 0 || ph.betas > 0) ? 1 : 0;
+		return ((static_cast<std::size_t>(ph.normalModel) * nTangential + static_cast<std::size_t>(ph.tangentialModel)) * nDamping + damping) * 2
+		        + (trackEnergy ? 1 : 0);
+	}
+}
+
+void Law2_ScGeom_ViscBridgePhys_HertzViscous::addEnergy(Real value, const char* name, int& index, bool reset)
+{
+	if (index < 0) {
+		// The first lookup registers the name; registration must not race with other threads.
+#ifdef YADE_OPENMP
+#pragma omp critical(viscbridge_energy_index)
+#endif
+		scene->energy->add(value, name, index, reset);
+		return;
+	}
+	scene->energy->add(value, name, index, reset);
+}
+
+void Law2_ScGeom_ViscBridgePhys_HertzViscous::postLoad(Law2_ScGeom_ViscBridgePhys_HertzViscous&)
+{
+	static const std::string name = "Law2_ScGeom_ViscBridgePhys_HertzViscous";
+	try {
+		const int idx = viscbridge::parseName(name, "integration", integration, viscbridge::integrationNames);
+		if (idx == static_cast<int>(viscbridge::Integration::implicitEuler))
+			throw std::invalid_argument(name + ".integration='implicit' is not available yet; allowed: 'explicit'.");
+		integrationIndex = idx;
+	} catch (const std::invalid_argument&) {
+		integration = lastValidIntegration;
+		throw;
+	}
+	lastValidIntegration = integration;
+}
+
+bool Law2_ScGeom_ViscBridgePhys_HertzViscous::go(shared_ptr<IGeom>& ig, shared_ptr<IPhys>& ip, Interaction* I)
+{
+	auto& geom = static_cast<ScGeom&>(*ig);
+	auto& ph   = static_cast<ViscBridgePhys&>(*ip);
+	return explicitKernels[kernelIndex(ph, scene->trackEnergy)](*this, geom, ph, I);
+}
+
+} // namespace yade

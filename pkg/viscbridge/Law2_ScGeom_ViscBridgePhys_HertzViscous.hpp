@@ -1,0 +1,47 @@
+// Law2_ScGeom_ViscBridgePhys_HertzViscous: Hertz–Mindlin contact with Coulomb friction plus the
+// viscous liquid-bridge forces selected for the interaction (physics.md §2), with energy tracking.
+#pragma once
+#include "ViscBridgePhys.hpp"
+#include <core/Dispatching.hpp>
+#include <pkg/dem/ScGeom.hpp>
+
+namespace yade {
+
+class Law2_ScGeom_ViscBridgePhys_HertzViscous : public LawFunctor {
+	std::string lastValidIntegration = "explicit";
+
+public:
+	// Energy slots in scene->energy (resolved on first use).
+	int viscDissipNormalIx = -1, viscDissipTangentialIx = -1, viscDissipRotationalIx = -1, contactDampDissipIx = -1, plastDissipIx = -1,
+	    elastPotentialIx = -1;
+	int integrationIndex = 0; // parsed `integration`
+
+	bool go(shared_ptr<IGeom>& geom, shared_ptr<IPhys>& phys, Interaction* interaction) override;
+	void postLoad(Law2_ScGeom_ViscBridgePhys_HertzViscous&);
+	void addEnergy(Real value, const char* name, int& index, bool reset);
+	FUNCTOR2D(ScGeom, ViscBridgePhys);
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS(Law2_ScGeom_ViscBridgePhys_HertzViscous, LawFunctor,
+		"Hertz–Mindlin contact with Coulomb friction (as :yref:`Law2_ScGeom_MindlinPhys_Mindlin`, "
+		"optionally with contact damping) plus the viscous forces of a liquid bridge: normal "
+		"$F=-C^n v_r^n$ (P3) and the tangential model chosen in "
+		":yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys`, with the gap clamped at $S_{min}$ also in "
+		"overlap, so the force is continuous through contact (P6). The interaction lives while there "
+		"is a contact or a bridge; a bridge forms at contact (or within formationDistance) and "
+		"ruptures beyond $S_{rup}$ (P11).\n\n"
+		"Only the selected effects are evaluated: each interaction runs a kernel compiled for its "
+		"combination of models, so an unselected effect costs nothing.\n\n"
+		"With :yref:`O.trackEnergy<Omega.trackEnergy>`, adds to ``O.energy``: ``viscDissipNormal``, "
+		"``viscDissipTangential`` (sliding part of the tangential dissipation), "
+		"``viscDissipRotational`` (the part that resists rolling; negative only with 'washino', which "
+		"is not dissipative), ``contactDampDissip`` (with en<1), ``plastDissip`` (friction) — all "
+		"cumulative — and ``elastPotential`` (current Hertz–Mindlin elastic energy). Dissipation is "
+		"computed with the same velocities as the forces.",
+		((string,integration,"explicit",Attr::triggerPostLoad,"Time integration of the viscous forces: 'explicit' (the paper's framework: forces from the velocities the integrator stores; stable for $\\Delta t<2t_v$, P12) or 'implicit' (backward Euler over the contact network, P15; not available yet)."))
+	);
+	// clang-format on
+	DECLARE_LOGGER;
+};
+REGISTER_SERIALIZABLE(Law2_ScGeom_ViscBridgePhys_HertzViscous);
+
+} // namespace yade

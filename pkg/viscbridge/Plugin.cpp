@@ -1,0 +1,9 @@
+// Registers every ViscBridge class with YADE (one list for the whole plugin).
+#include "HeaderProbe.hpp"
+#include "Ip2_FrictMat_FrictMat_ViscBridgePhys.hpp"
+#include "Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
+#include "ViscBridgePhys.hpp"
+
+namespace yade {
+YADE_PLUGIN((ViscBridgeHeaderProbe)(ViscBridgePhys)(Ip2_FrictMat_FrictMat_ViscBridgePhys)(Law2_ScGeom_ViscBridgePhys_HertzViscous));
+} // namespace yade

@@ -1,0 +1,61 @@
+// ViscBridgePhys: Hertz–Mindlin contact state plus a viscous liquid bridge (physics.md §2).
+#pragma once
+#include <pkg/dem/FrictPhys.hpp>
+
+namespace yade {
+
+class ViscBridgePhys : public FrictPhys {
+public:
+	virtual ~ViscBridgePhys() = default;
+	std::string normalModelName() const;
+	std::string tangentialModelName() const;
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(ViscBridgePhys, FrictPhys,
+		"Physics of a wet contact: Hertz–Mindlin contact (constants of "
+		":yref:`Ip2_FrictMat_FrictMat_MindlinPhys`) and a viscous liquid bridge, created by "
+		":yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys` and evaluated by "
+		":yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous`.\n\n"
+		"Vector forces named ``…ContactForce``/``…ViscousForce`` act on body 1 (body 2 receives the "
+		"opposite force); the inherited :yref:`NormShearPhys.normalForce` and "
+		":yref:`NormShearPhys.shearForce` keep YADE's meaning (total force sustained by body 2), so "
+		"YADE's stress and force utilities see contact and viscous forces together.",
+		// contact
+		((Real,kno,0,Attr::readonly,"Hertz coefficient: normal force $F_n=k_{no}\\delta^{3/2}$ [N/m^{3/2}]."))
+		((Real,kso,0,Attr::readonly,"Mindlin coefficient: tangential stiffness $k_s=k_{so}\\delta^{1/2}$ [N/m^{3/2}]."))
+		((Real,betan,0,Attr::readonly,"Normal contact damping ratio (from :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys.en`)."))
+		((Real,betas,0,Attr::readonly,"Tangential contact damping ratio (equal to betan)."))
+		((Vector3r,shearElastic,Vector3r::Zero(),Attr::readonly,"Elastic tangential contact force, incrementally updated (YADE sense: sustained by body 2) [N]."))
+		// pair
+		((Real,radius1,0,Attr::readonly,"True radius of body 1; 0 if body 1 is not a sphere (wall, facet, box) [m]."))
+		((Real,radius2,0,Attr::readonly,"True radius of body 2; 0 if body 2 is not a sphere [m]."))
+		((Real,rEff,0,Attr::readonly,"Reduced radius $\\bar r$ (physics.md §1): $r_1r_2/(r_1+r_2)$, or the sphere's radius against a wall [m]."))
+		((Real,mEff,0,Attr::readonly,"Reduced mass $m^*$: $m_1m_2/(m_1+m_2)$, or the dynamic body's mass against a wall or fixed body [kg]."))
+		// bridge
+		((int,normalModel,0,Attr::readonly,"Normal viscous model: 0 none, 1 adamsPerchard (P4), 2 pitois (P5); see normalModelName."))
+		((int,tangentialModel,0,Attr::readonly,"Tangential viscous model: 0 none, 1 washino (P7), 2 slip, 3 goldman; see tangentialModelName."))
+		((Real,viscosity,0,Attr::readonly,"Liquid viscosity $\\mu$ [Pa·s]."))
+		((Real,bridgeVolume,0,Attr::readonly,"Bridge volume $V$ [m³]."))
+		((Real,sMin,0,Attr::readonly,"Minimum gap $S_{min}$ at which the viscous coefficients are evaluated (P6) [m]."))
+		((Real,sRup,0,Attr::readonly,"Rupture distance $S_{rup}=(1+\\theta/2)V^{1/3}$ (P11) [m]."))
+		((Real,formationDistance,0,Attr::readonly,"The bridge forms when $S$ falls below this distance (0: at contact) [m]."))
+		((bool,bridge,false,Attr::readonly,"Whether the liquid bridge exists."))
+		// state of the last step
+		((Real,separation,0,Attr::readonly,"Surface gap $S$ of the last step, negative in overlap [m]."))
+		((Real,cn,0,Attr::readonly,"Normal viscous coefficient $C^n$ of the last step (0 without bridge) [N·s/m]."))
+		((Real,ct,0,Attr::readonly,"Tangential viscous coefficient $C_T$ of the last step (0 without bridge) [N·s/m]."))
+		((Real,cr,0,Attr::readonly,"Rotational coupling coefficient $C_R$ of the last step (washino, goldman) [N·s/m]."))
+		((Vector3r,normalContactForce,Vector3r::Zero(),Attr::readonly,"Hertz normal contact force on body 1 (including contact damping) [N]."))
+		((Vector3r,shearContactForce,Vector3r::Zero(),Attr::readonly,"Mindlin tangential contact force on body 1 [N]."))
+		((Vector3r,normalViscousForce,Vector3r::Zero(),Attr::readonly,"Normal viscous bridge force on body 1 (P3) [N]."))
+		((Vector3r,shearViscousForce,Vector3r::Zero(),Attr::readonly,"Tangential viscous bridge force on body 1 [N]."))
+		, /* ctor */ createIndex();
+		, /* py */
+		.add_property("normalModelName", &ViscBridgePhys::normalModelName, "Name of the normal viscous model.")
+		.add_property("tangentialModelName", &ViscBridgePhys::tangentialModelName, "Name of the tangential viscous model.")
+	);
+	// clang-format on
+	REGISTER_CLASS_INDEX(ViscBridgePhys, FrictPhys);
+};
+REGISTER_SERIALIZABLE(ViscBridgePhys);
+
+} // namespace yade

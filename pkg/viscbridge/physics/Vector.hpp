@@ -1,0 +1,8 @@
+// Plain vector type of the YADE-free physics kernels (Eigen, double precision like yade-double).
+#pragma once
+#include <Eigen/Core>
+
+namespace viscbridge {
+using Vec3 = Eigen::Matrix<double, 3, 1>;
+constexpr double pi = 3.14159265358979323846;
+} // namespace viscbridge
