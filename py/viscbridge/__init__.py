@@ -8,7 +8,21 @@ own; this package adds the Python tools around them.
 import os
 import sys
 
-__all__ = ['plugin_path', 'yade_version']
+__all__ = ['plugin_path', 'yade_version', 'engines']
+
+# Modules that need a running YADE are imported on first use, so that the planning tools
+# (viscbridge.criteria) work in plain Python.
+_LAZY = {'engines': ('engine_list', 'engines')}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        import importlib
+        module, attr = _LAZY[name]
+        value = getattr(importlib.import_module('.' + module, __name__), attr)
+        globals()[name] = value
+        return value
+    raise AttributeError('module %r has no attribute %r' % (__name__, name))
 
 
 def yade_version():

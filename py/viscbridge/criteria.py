@@ -1,0 +1,634 @@
+"""Time-step planning for ViscBridge simulations, in plain Python (no YADE needed).
+
+Which time step Δt does a DEM simulation with highly viscous liquid bridges need?  Two families of
+limits compete (physics.md §3; equation tags P4…P15 as in the code comments of the C++ kernels):
+
+* the **collision** limits of the dry Hertz–Mindlin contact: the Rayleigh-wave step (the usual
+  DEM criterion) and the stability of the contact spring at the stiffness reached in a collision;
+* the **viscous** limits of the bridges' dashpots.  YADE's leapfrog evaluates every
+  velocity-dependent force from the stored velocity v_{n−1/2}, i.e. explicit Euler in velocity, so
+  a dashpot C acting on a reduced mass m* multiplies the relative velocity by (1 − Δt C/m*) per
+  step: stable iff Δt < 2 m*/C, free of spurious rebound iff Δt ≤ m*/C.  The coefficient is largest
+  at the smallest gap the model allows, S_min (P6), so every viscous limit is proportional to
+  S_min/μ and can be many orders of magnitude below the collision limit.
+
+:func:`critical_dt` evaluates all of them for one representative contact and returns a
+:class:`TimeStepCriteria` (a table of :class:`Bound` rows) with the stable step, the step free of
+spurious rebounds, the governing bound and the regime.  The building blocks are public:
+
+=============================  =================================================================
+:func:`rayleigh_time`          T_R = π r √(ρ/G) / (0.1631 ν + 0.876605), G = E/(2(1+ν))
+:func:`rayleigh_dt`            fraction · T_R (fraction 0.2 by default)
+:func:`hertz_collision_time`   t_c = 2.868 (m*²/(r̄ E*² v))^(1/5)
+:func:`viscous_decay_time`     t_v = m*/C^n(S_min)                                          (P12)
+:func:`normal_coefficient`     C^n(S) of Adams–Perchard (P4) or Pitois (P5)
+:func:`tangential_coefficients` C_T, C_R, C_W of Goldman et al. (P8, P9, C_W)
+:func:`pair_limit`             4m*/(C + √(C² + 4m*k))                                       (P13)
+:func:`network_limit`          4/(d + √(d² + 4κ))                                           (P14)
+=============================  =================================================================
+
+Conventions (physics.md §1): r̄ = r_i r_j/(r_i + r_j), m* = m_i m_j/(m_i + m_j); against a wall
+r̄ = r and m* = m.  All quantities in SI units.  The constants are those of the C++ kernels
+(``pkg/viscbridge/physics/*.hpp``): same E*, G*, Hertz and Mindlin stiffnesses as YADE's
+``Ip2_FrictMat_FrictMat_MindlinPhys``, same viscous coefficients as the ViscBridge laws.
+"""
+import math
+from dataclasses import dataclass, field
+
+__all__ = ['Bound', 'TimeStepCriteria', 'critical_dt', 'rayleigh_time', 'rayleigh_dt',
+           'hertz_collision_time', 'hertz_max_overlap', 'hertz_normal_stiffness',
+           'mindlin_tangential_stiffness', 'effective_young', 'effective_shear',
+           'viscous_decay_time', 'normal_coefficient', 'pitois_volume_factor',
+           'tangential_coefficients', 'pair_limit', 'network_limit', 'restitution_damping_ratio',
+           'reduced_radius', 'reduced_mass', 'sphere_mass', 'sphere_volume',
+           'NORMAL_MODELS', 'TANGENTIAL_MODELS', 'INTEGRATIONS']
+
+NORMAL_MODELS = ('none', 'adamsPerchard', 'pitois')            # as ModelNames.hpp
+TANGENTIAL_MODELS = ('none', 'washino', 'slip', 'goldman')     # as ModelNames.hpp
+INTEGRATIONS = ('explicit', 'implicit')                        # as ModelNames.hpp
+
+#: Rayleigh-wave constants (Thornton 2000 after Miller & Pursey 1955), as YADE's
+#: ``utils.RayleighWaveTimeStep`` (Shop::RayleighWaveTimeStep).
+RAYLEIGH_A, RAYLEIGH_B = 0.1631, 0.876605
+#: Hertz collision duration t_c = HERTZ_TC · (m*²/(r̄ E*² v))^(1/5) (= 2.9432·(15/16)^(2/5)).
+HERTZ_TC = 2.868
+#: Ratio of a sphere's rotational to translational mobility seen at its surface: r²/I · m = 5/2.
+ROT = 2.5
+
+
+# ------------------------------------------------------------------------------------------------
+# argument checks: every failure is a ValueError naming the parameter, its value and the range
+# ------------------------------------------------------------------------------------------------
+def _reject(func, name, value, allowed):
+    raise ValueError('%s: %s=%r is out of range; allowed: %s.' % (func, name, value, allowed))
+
+
+def _number(func, name, value, allowed):
+    if isinstance(value, bool):
+        _reject(func, name, value, allowed)
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        _reject(func, name, value, allowed)
+    if not math.isfinite(x):
+        _reject(func, name, value, allowed)
+    return x
+
+
+def _positive(func, name, value, unit=''):
+    allowed = '> 0 (finite)' + unit
+    x = _number(func, name, value, allowed)
+    if not x > 0:
+        _reject(func, name, value, allowed)
+    return x
+
+
+def _non_negative(func, name, value, unit=''):
+    allowed = '>= 0 (finite)' + unit
+    x = _number(func, name, value, allowed)
+    if not x >= 0:
+        _reject(func, name, value, allowed)
+    return x
+
+
+def _poisson(func, value, name='poisson'):
+    allowed = '(-1, 0.5)'
+    x = _number(func, name, value, allowed)
+    if not -1 < x < 0.5:
+        _reject(func, name, value, allowed)
+    return x
+
+
+def _choice(func, name, value, choices):
+    if value not in choices:
+        raise ValueError("%s: %s=%r is not a known name; allowed: %s." % (
+            func, name, value, ', '.join(repr(c) for c in choices)))
+    return value
+
+
+def _geometry(func, radius1, radius2, wall):
+    """(r1, r2) checked; r2 is None against a wall, r1 when radius2 is None (identical spheres)."""
+    r1 = _positive(func, 'radius1' if func != 'critical_dt' else 'radius', radius1, ' [m]')
+    if not isinstance(wall, bool):
+        _reject(func, 'wall', wall, 'True or False')
+    if wall:
+        if radius2 is not None:
+            _reject(func, 'radius2', radius2, 'None when wall=True (a wall has no radius)')
+        return r1, None
+    r2 = r1 if radius2 is None else _positive(func, 'radius2', radius2, ' [m]')
+    return r1, r2
+
+
+# ------------------------------------------------------------------------------------------------
+# geometry and material (physics.md §1; PairGeometry.hpp, HertzMindlin.hpp)
+# ------------------------------------------------------------------------------------------------
+def sphere_volume(radius):
+    """(4/3) π r³."""
+    return 4.0 / 3.0 * math.pi * radius ** 3
+
+
+def sphere_mass(radius, density):
+    """ρ (4/3) π r³."""
+    return density * sphere_volume(radius)
+
+
+def reduced_radius(radius1, radius2=None):
+    """r̄ = r₁r₂/(r₁ + r₂) (§1); ``radius2=None`` is a wall: r̄ = r₁ (PairGeometry.hpp)."""
+    if radius2 is None:
+        return radius1
+    return radius1 * radius2 / (radius1 + radius2)
+
+
+def reduced_mass(mass1, mass2=None):
+    """m* = m₁m₂/(m₁ + m₂) (§1); ``mass2=None`` is a wall (infinite mass): m* = m₁."""
+    if mass2 is None:
+        return mass1
+    return mass1 * mass2 / (mass1 + mass2)
+
+
+def effective_young(young1, poisson1, young2=None, poisson2=None):
+    """E* from 1/E* = (1−ν₁²)/E₁ + (1−ν₂²)/E₂ (second material defaults to the first).
+
+    Written as YADE's Ip2_FrictMat_FrictMat_MindlinPhys: E* = E₁E₂/((1−ν₁²)E₂ + (1−ν₂²)E₁); for
+    identical materials E* = E/(2(1−ν²)).  Hertz: F = (4/3) E* √r̄ δ^(3/2).
+    """
+    if young2 is None:
+        young2, poisson2 = young1, poisson1
+    return young1 * young2 / ((1 - poisson1 ** 2) * young2 + (1 - poisson2 ** 2) * young1)
+
+
+def effective_shear(young1, poisson1, young2=None, poisson2=None):
+    """G* from 1/G* = (2−ν₁)/G₁ + (2−ν₂)/G₂, G = E/(2(1+ν)), as YADE's Mindlin law.
+
+    For identical materials G* = G/(2(2−ν)).  Mindlin tangent stiffness k_s = 8 G* √(r̄ δ).
+    """
+    if young2 is None:
+        young2, poisson2 = young1, poisson1
+    g1 = young1 / (2 * (1 + poisson1))
+    g2 = young2 / (2 * (1 + poisson2))
+    return 1.0 / ((2 - poisson1) / g1 + (2 - poisson2) / g2)
+
+
+def hertz_max_overlap(m_eff, r_bar, e_star, velocity):
+    """Maximum Hertz overlap of a head-on collision at approach speed v:
+    δ_max = (15 m* v² / (16 E* √r̄))^(2/5) (kinetic energy ½m*v² = (8/15) E* √r̄ δ^(5/2))."""
+    return (15.0 * m_eff * velocity ** 2 / (16.0 * e_star * math.sqrt(r_bar))) ** 0.4
+
+
+def hertz_normal_stiffness(r_bar, e_star, overlap):
+    """Hertz tangent stiffness k_n = dF/dδ = 2 E* √(r̄ δ) (YADE: 3/2 · kno · δ^(1/2), kno = (4/3)E*√r̄)."""
+    return 2.0 * e_star * math.sqrt(r_bar * overlap)
+
+
+def mindlin_tangential_stiffness(r_bar, g_star, overlap):
+    """Mindlin no-slip tangential stiffness k_s = 8 G* √(r̄ δ) (YADE: kso · δ^(1/2), kso = 8√r̄ G*)."""
+    return 8.0 * g_star * math.sqrt(r_bar * overlap)
+
+
+def restitution_damping_ratio(restitution):
+    """Damping ratio β of YADE's Mindlin law for a restitution coefficient e (Thornton et al. 2013,
+    (B6)–(B7); HertzMindlin.hpp ``dampingRatioFromRestitution``).  e = 1 gives 0.  The contact
+    dashpots are c_n = 2β√(m* k_n), c_s = 2β√(m* k_s)."""
+    e = _number('restitution_damping_ratio', 'restitution', restitution, '(0, 1]')
+    if not 0 < e <= 1:
+        _reject('restitution_damping_ratio', 'restitution', restitution, '(0, 1]')
+    if e == 1.0:
+        return 0.0
+    h = (-6.918798, -16.41105, 146.8049, -796.4559, 2928.711, -7206.864, 11494.29, -11342.18,
+         6276.757, -1489.915)
+    poly = h[9]
+    for c in reversed(h[:9]):
+        poly = c + e * poly
+    alpha = e * poly
+    return math.sqrt(1.0 / (1.0 - (1.0 + e) ** 2 * math.exp(alpha)) - 1.0)
+
+
+# ------------------------------------------------------------------------------------------------
+# collision time scales
+# ------------------------------------------------------------------------------------------------
+def rayleigh_time(radius, density, young, poisson):
+    """Rayleigh-wave time T_R = π r √(ρ/G) / (0.1631 ν + 0.876605), G = E/(2(1+ν)).
+
+    The time a Rayleigh wave needs to cross a sphere (Thornton 2000), exactly as YADE's
+    ``utils.RayleighWaveTimeStep()`` for one sphere.  0.2 T_R is the customary DEM collision step;
+    at r = 0.5 mm, ρ = 2500 kg/m³, E = 1e7 Pa, ν = 0.3 it is 8.7e-6 s (physics.md §3), and it
+    scales as E^(−1/2).
+    """
+    f = 'rayleigh_time'
+    r = _positive(f, 'radius', radius, ' [m]')
+    rho = _positive(f, 'density', density, ' [kg/m³]')
+    e = _positive(f, 'young', young, ' [Pa]')
+    nu = _poisson(f, poisson)
+    shear = e / (2 * (1 + nu))
+    return math.pi * r * math.sqrt(rho / shear) / (RAYLEIGH_A * nu + RAYLEIGH_B)
+
+
+def rayleigh_dt(radius, density, young, poisson, fraction=0.2):
+    """The usual DEM collision step: fraction · T_R (see :func:`rayleigh_time`)."""
+    fr = _positive('rayleigh_dt', 'fraction', fraction)
+    return fr * rayleigh_time(radius, density, young, poisson)
+
+
+def hertz_collision_time(radius1, radius2, density, young, poisson, impact_velocity, wall=False):
+    """Duration of a dry Hertz collision: t_c = 2.868 (m*² / (r̄ E*² v))^(1/5).
+
+    E* = E/(2(1−ν²)) (identical materials; 1/E* = (1−ν₁²)/E₁ + (1−ν₂²)/E₂), r̄ and m* of §1; with
+    ``wall=True`` (``radius2`` must then be None) r̄ = r and m* = m, the wall being of the same
+    material.  Equivalently t_c = 2.9432 δ_max/v.  A time scale, not a stability limit.
+    """
+    f = 'hertz_collision_time'
+    r1, r2 = _geometry(f, radius1, radius2, wall)
+    rho = _positive(f, 'density', density, ' [kg/m³]')
+    e = _positive(f, 'young', young, ' [Pa]')
+    nu = _poisson(f, poisson)
+    v = _positive(f, 'impact_velocity', impact_velocity, ' [m/s]')
+    r_bar = reduced_radius(r1, r2)
+    m_eff = reduced_mass(sphere_mass(r1, rho), None if r2 is None else sphere_mass(r2, rho))
+    e_star = effective_young(e, nu)
+    return HERTZ_TC * (m_eff ** 2 / (r_bar * e_star ** 2 * v)) ** 0.2
+
+
+# ------------------------------------------------------------------------------------------------
+# viscous coefficients (NormalViscous.hpp, GoldmanCoefficients.hpp)
+# ------------------------------------------------------------------------------------------------
+def pitois_volume_factor(r_bar, gap, bridge_volume):
+    """Pitois' factor [1 − (1 + V/(π r̄ S²))^(−1/2)]² ∈ (0, 1] (P5), computed as the kernel does:
+    −expm1(−½ log1p(x)) for the bracket, x = V/(π r̄ S²)."""
+    a2 = bridge_volume / (math.pi * r_bar)
+    bracket = -math.expm1(-0.5 * math.log1p(a2 / (gap * gap)))
+    return bracket * bracket
+
+
+def normal_coefficient(r_bar, viscosity, gap, normal_model='adamsPerchard', bridge_volume=None):
+    """Normal viscous coefficient C^n at gap S (the caller passes the clamped gap max(S, S_min), P6).
+
+    'adamsPerchard' (P4): C^n = 6πμ r̄²/S;  'pitois' (P5): C^n = 6πμ r̄²/S · [1 − (1 + V/(π r̄ S²))^(−1/2)]²;
+    'none': 0.
+    """
+    if normal_model == 'none' or viscosity == 0:
+        return 0.0
+    c = 6 * math.pi * viscosity * r_bar * r_bar / gap
+    if normal_model == 'pitois':
+        c *= pitois_volume_factor(r_bar, gap, bridge_volume)
+    return c
+
+
+def viscous_decay_time(radius1, density, viscosity, s_min, radius2=None, wall=False,
+                       normal_model='adamsPerchard', bridge_volume=None):
+    """Viscous decay time t_v = m*/C^n(S_min) (P12).
+
+    Adams–Perchard (P4): t_v = m* S_min/(6πμ r̄²); for equal spheres t_v = (4/9) ρ r S_min/μ,
+    against a wall (2/9) ρ r S_min/μ.  Pitois (P5, needs ``bridge_volume`` V): t_v is larger by
+    1/[1 − (1 + V/(π r̄ S_min²))^(−1/2)]².  The explicit pair is stable iff Δt < 2 t_v and does not
+    rebound spuriously iff Δt ≤ t_v.  Returns inf when μ = 0 or ``normal_model='none'``.
+    ``radius2=None`` means two identical spheres (unless ``wall=True``).
+    """
+    f = 'viscous_decay_time'
+    r1, r2 = _geometry(f, radius1, radius2, wall)
+    rho = _positive(f, 'density', density, ' [kg/m³]')
+    mu = _non_negative(f, 'viscosity', viscosity, ' [Pa·s]; 0 means dry')
+    s = _positive(f, 's_min', s_min, ' [m]')
+    _choice(f, 'normal_model', normal_model, NORMAL_MODELS)
+    if normal_model == 'pitois':
+        if bridge_volume is None:
+            _reject(f, 'bridge_volume', bridge_volume, "> 0 [m³] (required by normal_model='pitois')")
+        bridge_volume = _positive(f, 'bridge_volume', bridge_volume, ' [m³]')
+    r_bar = reduced_radius(r1, r2)
+    m_eff = reduced_mass(sphere_mass(r1, rho), None if r2 is None else sphere_mass(r2, rho))
+    c = normal_coefficient(r_bar, mu, s, normal_model, bridge_volume)
+    return m_eff / c if c > 0 else math.inf
+
+
+def tangential_coefficients(radius1, viscosity, s, radius2=None, wall=False):
+    """Goldman's small-gap coefficients at gap S (pass the clamped gap max(S, S_min)):
+
+    C_T = 6πμ r̄ [(8/15) ln(r̄/S) + 0.9588]   (P8, translation)
+    C_R = 6πμ r̄ [(2/15) ln(r̄/S) + 0.2526]   (P9, coupling; + sign, the paper's − is a misprint)
+    C_W = 6πμ r̄ [(8/15) ln(r̄/S) + 0.5089]   (rotation, ``goldman`` model)
+
+    Returns ``{'C_T': …, 'C_R': …, 'C_W': …}`` [N·s/m], unclamped (all positive for S < 2.6 r̄).
+    """
+    f = 'tangential_coefficients'
+    r1, r2 = _geometry(f, radius1, radius2, wall)
+    mu = _non_negative(f, 'viscosity', viscosity, ' [Pa·s]')
+    gap = _positive(f, 's', s, ' [m]')
+    r_bar = reduced_radius(r1, r2)
+    return _goldman(6 * math.pi * mu * r_bar, r_bar, gap)
+
+
+def _goldman(six_pi_mu_r, r_bar, gap):
+    L = math.log(r_bar / gap)
+    return {'C_T': six_pi_mu_r * (8.0 / 15.0 * L + 0.9588),
+            'C_R': six_pi_mu_r * (2.0 / 15.0 * L + 0.2526),
+            'C_W': six_pi_mu_r * (8.0 / 15.0 * L + 0.5089)}
+
+
+# ------------------------------------------------------------------------------------------------
+# the stability formulas
+# ------------------------------------------------------------------------------------------------
+def pair_limit(m_eff, damping, stiffness):
+    """P13: Δt < 4m*/(C + √(C² + 4m*k)) for a spring k and a dashpot C (explicit in velocity).
+
+    k → 0 gives 2m*/C = 2 t_v, C → 0 gives 2√(m*/k).  In terms of ω₀ = √(k/m*) and the damping
+    ratio ζ = C/(2√(m*k)): ω₀Δt < 2(√(1+ζ²) − ζ) (R5).  min(2√(m*/k), 2m*/C) overestimates it by up
+    to the golden ratio 1.618, reached at ζ = 1/2.
+    """
+    if damping == 0 and stiffness == 0:
+        return math.inf
+    return 4.0 * m_eff / (damping + math.sqrt(damping * damping + 4.0 * m_eff * stiffness))
+
+
+def network_limit(d, kappa):
+    """P14: Δt ≤ 4/(d + √(d² + 4κ)) with d = Σ_j (C_n + 3.5 C_t)(1/m_i + 1/m_j) and
+    κ = Σ_j (k_n + 3.5 k_t)(1/m_i + 1/m_j).  Dashpots only (κ = 0): 2/d; springs only: 2/√κ."""
+    if d == 0 and kappa == 0:
+        return math.inf
+    return 4.0 / (d + math.sqrt(d * d + 4.0 * kappa))
+
+
+# ------------------------------------------------------------------------------------------------
+# the report
+# ------------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Bound:
+    """One time-step limit.
+
+    kind: 'stability' (Δt above it diverges), 'design' (stable, but an approaching pair rebounds
+    spuriously above it) or 'info' (a time scale, not a limit).  regime: 'viscous' when the limit is
+    set by a bridge's viscous coefficient, 'collision' when by the dry contact; for the combined
+    bounds (P13, P14) the part that dominates (viscous iff the dashpot-only limit is the smaller).
+    """
+    name: str
+    value: float
+    kind: str
+    formula: str
+    regime: str = ''
+
+
+@dataclass
+class TimeStepCriteria:
+    """The result of :func:`critical_dt`: every bound, and what they imply.
+
+    stability_limit   min over 'stability' bounds: the largest stable Δt (apply a safety factor)
+    no_rebound_limit  min(stability_limit, min over 'design' bounds)
+    governing         name of the bound attaining stability_limit
+    regime            'viscous' or 'collision': which physics sets the governing bound
+    parameters        the inputs, after defaults (S_min, V) were filled in
+    derived           r̄, m*, E*, G*, δ_max, k_n, k_t, C^n, C_T, C_R, C_W, t_v, ... (SI units)
+    """
+    bounds: list
+    parameters: dict = field(default_factory=dict)
+    derived: dict = field(default_factory=dict)
+    stability_limit: float = field(init=False)
+    no_rebound_limit: float = field(init=False)
+    governing: str = field(init=False)
+    regime: str = field(init=False)
+
+    def __post_init__(self):
+        stab = [b for b in self.bounds if b.kind == 'stability']
+        best = min(stab, key=lambda b: b.value)  # first of equal values: table order
+        self.stability_limit = best.value
+        self.governing = best.name
+        self.regime = best.regime
+        design = [b.value for b in self.bounds if b.kind == 'design']
+        self.no_rebound_limit = min([self.stability_limit] + design)
+
+    def bound(self, name):
+        """The :class:`Bound` called ``name`` (KeyError when it is not in the table)."""
+        for b in self.bounds:
+            if b.name == name:
+                return b
+        raise KeyError('no bound %r; bounds: %s' % (name, ', '.join(b.name for b in self.bounds)))
+
+    def names(self):
+        return [b.name for b in self.bounds]
+
+    def as_dict(self):
+        """Plain-data view: dicts, lists, floats, strings (t_v is inf when there is no normal dashpot)."""
+        return {'stability_limit': self.stability_limit, 'no_rebound_limit': self.no_rebound_limit,
+                'governing': self.governing, 'regime': self.regime,
+                'bounds': [{'name': b.name, 'value': b.value, 'kind': b.kind, 'regime': b.regime,
+                            'formula': b.formula} for b in self.bounds],
+                'parameters': dict(self.parameters), 'derived': dict(self.derived)}
+
+    def __str__(self):
+        p = self.parameters
+        head = ('ViscBridge time-step criteria: %s, r = %s m%s, rho = %g kg/m3, E = %g Pa, nu = %g, '
+                'mu = %g Pa.s, S_min = %.4g m, %s / %s, %s, z = %g, v = %g m/s' % (
+                    'sphere-wall' if p['wall'] else 'sphere-sphere', _g(p['radius']),
+                    '' if p['wall'] or p['radius2'] == p['radius'] else ' & %s m' % _g(p['radius2']),
+                    p['density'], p['young'], p['poisson'], p['viscosity'], p['s_min'],
+                    p['normal_model'], p['tangential_model'], p['integration'], p['coordination'],
+                    p['impact_velocity']))
+        w = max(len(b.name) for b in self.bounds)
+        rows = ['  %-*s  %-10s  %-9s  %-9s  %s' % (w, 'bound', 'value [s]', 'kind', 'regime', 'formula')]
+        for b in self.bounds:
+            rows.append('  %-*s  %-10s  %-9s  %-9s  %s' % (w, b.name, '%.4g' % b.value, b.kind,
+                                                           b.regime or '-', b.formula))
+        tail = ['stability limit:  %.4g s  (governing: %s, regime: %s)' % (
+                    self.stability_limit, self.governing, self.regime),
+                'no-rebound limit: %.4g s' % self.no_rebound_limit]
+        return '\n'.join([head] + rows + tail)
+
+    def __repr__(self):
+        return ('TimeStepCriteria(stability_limit=%.4g, no_rebound_limit=%.4g, governing=%r, regime=%r)'
+                % (self.stability_limit, self.no_rebound_limit, self.governing, self.regime))
+
+
+def _g(x):
+    return '%g' % x
+
+
+def _regime(bridge_dashpot_limit, elastic_limit):
+    """Dominant part of a combined bound: viscous iff the bridge dashpots alone give the smaller limit."""
+    return 'viscous' if bridge_dashpot_limit < elastic_limit else 'collision'
+
+
+# ------------------------------------------------------------------------------------------------
+# critical_dt
+# ------------------------------------------------------------------------------------------------
+def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wall=False, s_min=None,
+                s_min_rel=1e-3, bridge_volume=None, bridge_volume_rel=0.01,
+                normal_model='adamsPerchard', tangential_model='slip', integration='explicit',
+                coordination=1, impact_velocity=1.0, restitution=1.0):
+    """All time-step bounds for one representative contact, as a :class:`TimeStepCriteria`.
+
+    Geometry: two spheres of radii ``radius`` and ``radius2`` (default: equal), or one sphere and a
+    wall of the same material (``wall=True``: r̄ = r, m* = m).  Both spheres have ``density``.
+
+    Defaults as the Ip2 functor: S_min = ``s_min_rel`` · r̄ when ``s_min`` is None; V =
+    ``bridge_volume_rel`` × the mean volume of the two spheres (against a wall: the sphere's
+    volume) when ``bridge_volume`` is None (only used by ``normal_model='pitois'``).  viscosity = 0
+    is dry: no viscous bound.  ``restitution`` is the dry contact's ``en`` (1: no contact damping).
+
+    Bounds (C^n, C_T, C_R, C_W at S_min; k_n = 2E*√(r̄δ), k_t = 8G*√(r̄δ) at the maximum overlap
+    δ_max = (15 m* v²/(16 E* √r̄))^(2/5) of a head-on collision at ``impact_velocity``):
+
+    rayleigh             0.2 T_R                                  stability  (usual DEM criterion)
+    hertz_collision      t_c                                      info
+    elastic_pair         2√(m*/k_n)                               stability  (P13, C = 0)
+    viscous_pair         2 t_v = 2 m*/C^n                         stability  (P12)
+    viscous_no_rebound   t_v                                      design     (P12)
+    coupled_pair         4m*/(C + √(C² + 4m*k_n)), C = C^n + c_n  stability  (P13)
+    tangential_*         per tangential model (§3 "Tangential pair")  stability
+                         slip:    2m*/((1+β)C_T) ≈ 0.571 m*/C_T, β = 2.5 (1 + S_min/2r)² (mid-gap arms)
+                         washino: 2m*/(C_T + 2.5 C_R) and 0.8 m*/C_R
+                         goldman: 2m*/C_T, 0.8 m*/C_W and the exact 2/λ_max of
+                                  [[C_T, C_R], [2.5 C_R, 2.5 C_W]]/m*
+    network              4/(d + √(d² + 4κ)), z contacts per particle              stability (P14)
+    network_dashpot      2/d                                      stability  (P14)
+    network_no_reversal  1/d                                      design     (P14)
+
+    with d = z (C^n + c_n + w_t (C_t + c_s))(1/m_i + 1/m_j), κ = z (k_n + 3.5 k_t)(1/m_i + 1/m_j),
+    1/m_j = 0 for a wall, C_t = C_T (slip, goldman), max(C_T, C_R) (washino), 0 (none); w_t = 3.5,
+    or 1 + 2.5 (1 + S_min/2r)² for slip (its torque arms reach the mid-gap point).  c_n, c_s are
+    the contact dashpots of ``restitution`` < 1.
+
+    ``integration='implicit'`` (P15: backward Euler for the bridges, unconditionally stable for the
+    viscous part) drops every bound set by a bridge coefficient and uses C = 0 (bridges) in P13/P14.
+    """
+    f = 'critical_dt'
+    r1, r2 = _geometry(f, radius, radius2, wall)
+    rho = _positive(f, 'density', density, ' [kg/m³]')
+    e = _positive(f, 'young', young, ' [Pa]')
+    nu = _poisson(f, poisson)
+    mu = _non_negative(f, 'viscosity', viscosity, ' [Pa·s]; 0 means dry')
+    _choice(f, 'normal_model', normal_model, NORMAL_MODELS)
+    _choice(f, 'tangential_model', tangential_model, TANGENTIAL_MODELS)
+    _choice(f, 'integration', integration, INTEGRATIONS)
+    z = _number(f, 'coordination', coordination, '>= 1 (contacts per particle)')
+    if not z >= 1:
+        _reject(f, 'coordination', coordination, '>= 1 (contacts per particle)')
+    v = _positive(f, 'impact_velocity', impact_velocity, ' [m/s]')
+    en = _number(f, 'restitution', restitution, '(0, 1]')
+    if not 0 < en <= 1:
+        _reject(f, 'restitution', restitution, '(0, 1]')
+
+    r_bar = reduced_radius(r1, r2)
+    m1 = sphere_mass(r1, rho)
+    m2 = None if r2 is None else sphere_mass(r2, rho)
+    m_eff = reduced_mass(m1, m2)
+    inv_m = 1.0 / m1 + (0.0 if m2 is None else 1.0 / m2)  # 1/m_i + 1/m_j, = 1/m* (P14)
+
+    if s_min is None:
+        rel = _number(f, 's_min_rel', s_min_rel, '(0, 1] (S_min / r̄)')
+        if not 0 < rel <= 1:
+            _reject(f, 's_min_rel', s_min_rel, '(0, 1] (S_min / r̄)')
+        smin = rel * r_bar
+    else:
+        smin = _positive(f, 's_min', s_min, ' [m]')
+    if bridge_volume is None:
+        vrel = _number(f, 'bridge_volume_rel', bridge_volume_rel, '(0, 1] (fraction of the particle volume)')
+        if not 0 < vrel <= 1:
+            _reject(f, 'bridge_volume_rel', bridge_volume_rel, '(0, 1] (fraction of the particle volume)')
+        v1 = sphere_volume(r1)
+        v2 = v1 if r2 is None else sphere_volume(r2)
+        volume = vrel * 0.5 * (v1 + v2)
+    else:
+        volume = _positive(f, 'bridge_volume', bridge_volume, ' [m³]')
+
+    # ---- dry contact ------------------------------------------------------------------------------
+    e_star = effective_young(e, nu)
+    g_star = effective_shear(e, nu)
+    t_r = rayleigh_time(min(r1, r2) if r2 is not None else r1, rho, e, nu)
+    t_c = hertz_collision_time(r1, r2, rho, e, nu, v, wall=wall)
+    delta = hertz_max_overlap(m_eff, r_bar, e_star, v)
+    k_n = hertz_normal_stiffness(r_bar, e_star, delta)
+    k_t = mindlin_tangential_stiffness(r_bar, g_star, delta)
+    beta_c = restitution_damping_ratio(en)
+    c_n_contact = 2 * beta_c * math.sqrt(m_eff * k_n)
+    c_s_contact = 2 * beta_c * math.sqrt(m_eff * k_t)
+
+    # ---- bridge coefficients at S_min (P4/P5, P8, P9, C_W; clamped as the kernels) ----------------
+    wet = mu > 0
+    explicit = integration == 'explicit'
+    c_n = normal_coefficient(r_bar, mu, smin, normal_model, volume) if wet else 0.0
+    g = _goldman(6 * math.pi * mu * r_bar, r_bar, smin)
+    c_T, c_R, c_W = g['C_T'], g['C_R'], g['C_W']
+    # arms of the rotational terms: r_k, or r_k + S_min/2 for slip (mid-gap point); the largest
+    # rotational mobility over S ≤ S_min is at S = S_min (the coefficients are constant below it).
+    arm_gap = 0.5 * smin if tangential_model == 'slip' else 0.0
+    sides = [(r1, m1)] + ([] if r2 is None else [(r2, m2)])
+    beta_rot = m_eff * sum(ROT * ((r + arm_gap) / r) ** 2 / m for r, m in sides)  # = 2.5 for r_k arms
+    w_rot = 1 + ROT * max(((r + arm_gap) / r) ** 2 for r, _ in sides)              # P14 weight, 3.5
+    if tangential_model == 'slip':
+        c_T = max(c_T, 0.0)
+        c_t_net = c_T
+    elif tangential_model == 'washino':
+        c_t_net = max(c_T, c_R)
+    elif tangential_model == 'goldman':
+        c_T, c_W = max(c_T, 0.0), max(c_W, 0.0)
+        lim = math.sqrt(c_T * c_W)
+        c_R = min(max(c_R, -lim), lim)
+        c_t_net = c_T
+    else:
+        c_t_net = 0.0
+    tangential_on = wet and tangential_model != 'none'
+    if not tangential_on:
+        c_t_net = 0.0
+    viscous_active = wet and explicit and (c_n > 0 or tangential_on)
+    # bridge dashpots seen by the explicit scheme (0 under P15)
+    cb_n = c_n if explicit else 0.0
+    cb_t = c_t_net if explicit else 0.0
+
+    bounds = [
+        Bound('rayleigh', 0.2 * t_r, 'stability',
+              '0.2 T_R, T_R = pi r sqrt(rho/G)/(0.1631 nu + 0.876605)', 'collision'),
+        Bound('hertz_collision', t_c, 'info', 't_c = 2.868 (m*^2/(rbar E*^2 v))^(1/5)'),
+        Bound('elastic_pair', 2 * math.sqrt(m_eff / k_n), 'stability',
+              '2 sqrt(m*/k_n), k_n = 2 E* sqrt(rbar delta_max) (P13, C = 0)', 'collision'),
+    ]
+    t_v = m_eff / c_n if c_n > 0 else math.inf
+    if explicit and wet and c_n > 0:
+        bounds += [Bound('viscous_pair', 2 * t_v, 'stability', '2 t_v = 2 m*/C^n(S_min) (P12)', 'viscous'),
+                   Bound('viscous_no_rebound', t_v, 'design', 't_v = m*/C^n(S_min) (P12)', 'viscous')]
+    c_pair = cb_n + c_n_contact
+    bounds.append(Bound(
+        'coupled_pair', pair_limit(m_eff, c_pair, k_n), 'stability',
+        '4m*/(C + sqrt(C^2 + 4 m* k_n)), C = %s%s (P13)' % (
+            'C^n(S_min)' if cb_n > 0 else '0 (implicit bridges)' if wet and not explicit else '0',
+            ' + c_n(en)' if c_n_contact > 0 else ''),
+        _regime(2 * m_eff / cb_n if cb_n > 0 else math.inf, 2 * math.sqrt(m_eff / k_n))))
+
+    if explicit and tangential_on and c_T > 0:  # C_T > 0 for S_min < 6 r̄
+        if tangential_model == 'slip':
+            bounds.append(Bound('tangential_slip', 2 * m_eff / ((1 + beta_rot) * c_T), 'stability',
+                                '2m*/((1+beta) C_T), beta = 2.5(1 + S_min/2r)^2 (~0.571 m*/C_T)', 'viscous'))
+        elif tangential_model == 'washino':
+            bounds.append(Bound('tangential_coupled', 2 * m_eff / (c_T + ROT * c_R), 'stability',
+                                '2m*/(C_T + 2.5 C_R) (P7)', 'viscous'))
+            if c_R > 0:  # C_R > 0 for S_min < 6.6 r̄
+                bounds.append(Bound('tangential_rotation', 2 * m_eff / (ROT * c_R), 'stability',
+                                    '0.8 m*/C_R', 'viscous'))
+        else:  # goldman: u' = -(C_T u + C_R s)/m*, s' = -2.5 (C_R u + C_W s)/m*
+            a, b, c, dd = c_T, c_R, ROT * c_R, ROT * c_W
+            lam = 0.5 * (a + dd) + math.sqrt(0.25 * (a - dd) ** 2 + b * c)
+            bounds.append(Bound('tangential_translation', 2 * m_eff / c_T, 'stability', '2m*/C_T', 'viscous'))
+            if c_W > 0:  # C_W > 0 for S_min < 2.6 r̄
+                bounds.append(Bound('tangential_rotation', 2 * m_eff / (ROT * c_W), 'stability',
+                                    '0.8 m*/C_W', 'viscous'))
+            bounds.append(Bound('tangential_coupled', 2 * m_eff / lam, 'stability',
+                                '2/lambda_max([[C_T, C_R], [2.5 C_R, 2.5 C_W]]/m*)', 'viscous'))
+
+    d_bridge = z * (cb_n + w_rot * cb_t) * inv_m
+    d = d_bridge + z * (c_n_contact + 3.5 * c_s_contact) * inv_m
+    kappa = z * (k_n + 3.5 * k_t) * inv_m
+    bounds.append(Bound(
+        'network', network_limit(d, kappa), 'stability',
+        '4/(d + sqrt(d^2 + 4 kappa)), d = z(C_n + %s C_t)(1/m_i+1/m_j), kappa = z(k_n + 3.5 k_t)(1/m_i+1/m_j) (P14)'
+        % ('%.4g' % w_rot if tangential_model == 'slip' else '3.5'),
+        _regime(2 / d_bridge if d_bridge > 0 else math.inf, 2 / math.sqrt(kappa))))
+    if viscous_active:
+        bounds += [Bound('network_dashpot', 2 / d, 'stability', '2/d (P14, dashpots only)', 'viscous'),
+                   Bound('network_no_reversal', 1 / d, 'design', '1/d (P14, no reversal)', 'viscous')]
+
+    parameters = dict(radius=r1, radius2=r2, wall=wall,
+                      density=rho, young=e, poisson=nu, viscosity=mu, s_min=smin, bridge_volume=volume,
+                      normal_model=normal_model, tangential_model=tangential_model,
+                      integration=integration, coordination=z, impact_velocity=v, restitution=en)
+    derived = dict(r_bar=r_bar, m_eff=m_eff, mass1=m1, mass2=m2, e_star=e_star, g_star=g_star,
+                   rayleigh_time=t_r, collision_time=t_c, max_overlap=delta, k_n=k_n, k_t=k_t,
+                   contact_damping_ratio=beta_c, c_n_contact=c_n_contact, c_s_contact=c_s_contact,
+                   C_n=c_n, C_T=c_T if tangential_on else 0.0, C_R=c_R if tangential_on else 0.0,
+                   C_W=c_W if tangential_on else 0.0, t_v=t_v, network_d=d, network_kappa=kappa)
+    return TimeStepCriteria(bounds=bounds, parameters=parameters, derived=derived)

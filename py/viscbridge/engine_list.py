@@ -1,0 +1,96 @@
+"""A complete YADE engine list for a wet (viscous liquid bridge) scene.
+
+    from yade import O
+    import viscbridge
+    O.engines = viscbridge.engines(viscosity=10.0, tangentialModel='slip')
+
+Spheres, walls, facets and boxes all get a bounding-volume functor, a geometry functor, ViscBridge's
+Ip2/Law2, NewtonIntegrator with gravity and *no* numerical damping (the liquid is the damping), and
+— when the plugin provides them — ViscBridge's time stepper, implicit solver and guard.
+"""
+import yade.wrapper as yw
+
+__all__ = ['engines', 'bridge_parameters']
+
+# Ip2_FrictMat_FrictMat_ViscBridgePhys attributes a scene can set through engines().
+_IP2_KEYS = ('viscosity', 'bridgeVolume', 'bridgeVolumeRel', 'contactAngle', 'sMin', 'sMinRel',
+             'normalModel', 'tangentialModel', 'formationDistance', 'en')
+
+
+def bridge_parameters(**effects):
+    """Split ``effects`` into the Ip2 attributes and the rest (ValueError on unknown names)."""
+    ip2 = {k: effects.pop(k) for k in list(effects) if k in _IP2_KEYS}
+    return ip2, effects
+
+
+def _detection_range(formationDistance, minRadius):
+    """Bridges that form at a distance need interactions before contact.
+
+    Returns (aabbEnlargeFactor, sphere-sphere interactionDetectionFactor, wall/facet/box
+    detection distance [m], box interactionDetectionFactor), with 5 % margin.
+    """
+    if formationDistance <= 0:
+        return 1.0, 1.0, 0.0, 1.0
+    if minRadius is None:
+        from yade import O
+        radii = [b.shape.radius for b in O.bodies if b and isinstance(b.shape, yw.Sphere)]
+        if not radii:
+            raise ValueError('engines(formationDistance=%g) needs the smallest sphere radius to set the '
+                             'detection range: create the spheres first or pass minRadius=...' % formationDistance)
+        minRadius = min(radii)
+    if not minRadius > 0:
+        raise ValueError('engines(minRadius=%r): allowed > 0 [m]' % (minRadius,))
+    reach = 1.05 * formationDistance
+    # a sphere's box must reach a wall `reach` away; two spheres share the gap between them
+    return 1.0 + reach / minRadius, 1.0 + reach / (2.0 * minRadius), reach, 1.0 + reach / minRadius
+
+
+def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, safety=None, guard=True,
+            minRadius=None, label_prefix='', **effects):
+    """Return ``O.engines`` for a wet scene.
+
+    Keyword arguments of :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys` select the effects and the
+    liquid: ``viscosity`` [Pa·s] (0 = dry), ``bridgeVolume`` [m³] or ``bridgeVolumeRel``,
+    ``contactAngle`` [rad], ``sMin`` [m] or ``sMinRel``, ``normalModel`` ('none', 'adamsPerchard',
+    'pitois'), ``tangentialModel`` ('none', 'washino', 'slip', 'goldman'), ``formationDistance``
+    [m] and ``en`` (contact restitution).  Invalid values raise ValueError naming the parameter.
+
+    integration: 'explicit' or 'implicit' (viscous forces by backward Euler over the contact
+        network, with the ViscBridgeImplicitSolver engine inserted before the integrator).
+    timeStepper: add ViscBridgeTimeStepper (sets O.dt from the live contacts); ``safety`` is its
+        safety factor (None: the stepper's default).  With timeStepper=False set O.dt yourself.
+    guard: add ViscBridgeGuard, which stops the run before a blow-up spreads.
+    minRadius: smallest sphere radius, used with formationDistance > 0 to set the detection range
+        (default: taken from O.bodies).
+    label_prefix: prefix of the engines' labels ('collider', 'viscBridgeIp2', 'viscBridgeLaw',
+        'newton', 'timeStepper', 'implicitSolver', 'guard').
+    """
+    ip2_args, rest = bridge_parameters(**effects)
+    if rest:
+        raise ValueError('engines(): unknown parameter(s) %s; allowed: %s, gravity, integration, '
+                         'timeStepper, safety, guard, minRadius, label_prefix'
+                         % (', '.join(sorted(rest)), ', '.join(_IP2_KEYS)))
+    ip2 = yw.Ip2_FrictMat_FrictMat_ViscBridgePhys(label=label_prefix + 'viscBridgeIp2', **ip2_args)
+    law = yw.Law2_ScGeom_ViscBridgePhys_HertzViscous(label=label_prefix + 'viscBridgeLaw', integration=integration)
+    aabb, sphereFactor, reach, boxFactor = _detection_range(ip2.formationDistance, minRadius)
+
+    out = [
+        yw.ForceResetter(),
+        yw.InsertionSortCollider([yw.Bo1_Sphere_Aabb(aabbEnlargeFactor=aabb), yw.Bo1_Wall_Aabb(),
+                                  yw.Bo1_Facet_Aabb(), yw.Bo1_Box_Aabb()], label=label_prefix + 'collider'),
+        yw.InteractionLoop(
+            [yw.Ig2_Sphere_Sphere_ScGeom(interactionDetectionFactor=sphereFactor),
+             yw.Ig2_Wall_Sphere_ViscBridgeScGeom(detectionDistance=reach),
+             yw.Ig2_Facet_Sphere_ViscBridgeScGeom(detectionDistance=reach),
+             yw.Ig2_Box_Sphere_ScGeom(interactionDetectionFactor=boxFactor)],
+            [ip2], [law]),
+    ]
+    if timeStepper and hasattr(yw, 'ViscBridgeTimeStepper'):
+        kw = {} if safety is None else {'safety': safety}
+        out.append(yw.ViscBridgeTimeStepper(label=label_prefix + 'timeStepper', **kw))
+    if integration == 'implicit' and hasattr(yw, 'ViscBridgeImplicitSolver'):
+        out.append(yw.ViscBridgeImplicitSolver(label=label_prefix + 'implicitSolver'))
+    out.append(yw.NewtonIntegrator(gravity=gravity, damping=0.0, label=label_prefix + 'newton'))
+    if guard and hasattr(yw, 'ViscBridgeGuard'):
+        out.append(yw.ViscBridgeGuard(label=label_prefix + 'guard'))
+    return out
