@@ -55,8 +55,9 @@ namespace {
 		in.dt             = scene->dt;
 
 		vb::PairState st;
-		st.shearElastic = geom.rotate(ph.shearElastic);
-		st.bridge       = ph.bridge;
+		st.shearElastic   = geom.rotate(ph.shearElastic);
+		st.shearPotential = ph.shearPotential;
+		st.bridge         = ph.bridge;
 
 		const vb::PairModels<N, T, D> models { makeModel<N>(ph), makeModel<T>(ph), makeModel<D>(ph) };
 		const vb::PairParams          params { { ph.kno, ph.kso, ph.tangensOfFrictionAngle }, ph.mEff, ph.sMin, ph.sRup, ph.formationDistance };
@@ -67,6 +68,7 @@ namespace {
 		if (!keep) return false;
 
 		ph.shearElastic       = st.shearElastic;
+		ph.shearPotential     = st.shearPotential;
 		ph.kn                 = out.kn;
 		ph.ks                 = out.ks;
 		ph.cn                 = out.cn;

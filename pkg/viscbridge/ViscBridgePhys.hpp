@@ -25,6 +25,7 @@ public:
 		((Real,betan,0,Attr::readonly,"Normal contact damping ratio (from :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys.en`)."))
 		((Real,betas,0,Attr::readonly,"Tangential contact damping ratio (equal to betan)."))
 		((Vector3r,shearElastic,Vector3r::Zero(),Attr::readonly,"Elastic tangential contact force, incrementally updated (YADE sense: sustained by body 2) [N]."))
+		((Real,shearPotential,0,Attr::readonly,"Elastic energy stored in the tangential contact spring, accumulated as $\\sum(|F_s|^2-|F_{s,prev}|^2)/(2k_s)$ while energy is tracked [J]."))
 		// pair
 		((Real,radius1,0,Attr::readonly,"True radius of body 1; 0 if body 1 is not a sphere (wall, facet, box) [m]."))
 		((Real,radius2,0,Attr::readonly,"True radius of body 2; 0 if body 2 is not a sphere [m]."))

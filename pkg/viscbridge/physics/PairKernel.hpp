@@ -43,8 +43,9 @@ struct PairInput {
 // Carried from step to step.  The caller rotates shearElastic into the current contact frame
 // (YADE's ScGeom::rotate) before each call.
 struct PairState {
-	Vec3 shearElastic = Vec3::Zero(); // elastic tangential force, YADE sense (on body 2)
-	bool bridge       = false;
+	Vec3   shearElastic   = Vec3::Zero(); // elastic tangential force, YADE sense (on body 2)
+	double shearPotential = 0;            // elastic energy stored in shear (tracked with energy only)
+	bool   bridge         = false;
 };
 
 struct PairOutput {
@@ -101,6 +102,7 @@ bool evaluatePair(const PairModels<Normal, Tangential, Damping>& m, const PairPa
 		out.ks                   = p.contact.kso * std::pow(delta, 0.5);
 		Vec3       normalForce   = Fn * in.n; // YADE sense (on body 2)
 		Vec3&      shearElastic  = st.shearElastic;
+		[[maybe_unused]] const double previousShear2 = shearElastic.squaredNorm();
 		const Vec3 incidentVs    = in.shearIncrement / in.dt;
 		shearElastic             = shearElastic - out.ks * (incidentVs * in.dt);
 		[[maybe_unused]] double cs = 0;
@@ -133,8 +135,11 @@ bool evaluatePair(const PairModels<Normal, Tangential, Damping>& m, const PairPa
 			shearForce = shearElastic;
 		}
 		if constexpr (TrackEnergy) {
-			out.elasticPotential = 0.4 * p.contact.kno * std::pow(delta, 2.5);
-			if (out.ks > 0) out.elasticPotential += 0.5 * shearElastic.squaredNorm() / out.ks;
+			// Hertz: ∫ kno δ^{3/2} dδ.  Mindlin's stiffness changes with δ, so |Fs|²/(2ks) is not
+			// the work stored in shear; the increments (|Fs|² − |Fs_prev|²)/(2ks) at the current ks
+			// are, and keep the energy balance closed (Coulomb sliding is counted in dissipFriction).
+			if (out.ks > 0) st.shearPotential += 0.5 * (shearElastic.squaredNorm() - previousShear2) / out.ks;
+			out.elasticPotential = 0.4 * p.contact.kno * std::pow(delta, 2.5) + st.shearPotential;
 		}
 		out.normalContact = -normalForce;
 		out.shearContact  = -shearForce;
@@ -143,7 +148,8 @@ bool evaluatePair(const PairModels<Normal, Tangential, Damping>& m, const PairPa
 		out.torque1       = (in.contactPoint - in.b1.pos).cross(contactForce1);
 		out.torque2       = -(in.contactPoint - in.b2.pos).cross(contactForce1);
 	} else {
-		st.shearElastic = Vec3::Zero(); // a new contact starts without tangential history
+		st.shearElastic   = Vec3::Zero(); // a new contact starts without tangential history
+		st.shearPotential = 0;
 	}
 
 	// ---- viscous bridge (P3–P9) ------------------------------------------------------------------

@@ -1,6 +1,7 @@
 // Plain vector type of the YADE-free physics kernels (Eigen, double precision like yade-double).
 #pragma once
 #include <Eigen/Core>
+#include <Eigen/Geometry> // cross products
 
 namespace viscbridge {
 using Vec3 = Eigen::Matrix<double, 3, 1>;
