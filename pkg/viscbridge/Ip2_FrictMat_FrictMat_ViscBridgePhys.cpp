@@ -2,6 +2,7 @@
 #include "physics/HertzMindlin.hpp"
 #include "physics/ModelNames.hpp"
 #include "physics/PairGeometry.hpp"
+#include "physics/TimeStepBounds.hpp"
 #include "physics/Validation.hpp"
 #include <core/Scene.hpp>
 #include <pkg/common/Sphere.hpp>
@@ -103,7 +104,10 @@ void Ip2_FrictMat_FrictMat_ViscBridgePhys::go(const shared_ptr<Material>& m1, co
 	phys->sMin              = sMin > 0 ? sMin : sMinRel * phys->rEff;
 	phys->sRup              = viscbridge::ruptureDistance(phys->bridgeVolume, contactAngle);
 	phys->formationDistance = formationDistance;
-	interaction->phys       = phys;
+	phys->viscousStepCoefficient = viscbridge::viscousStepCoefficient(
+	        static_cast<viscbridge::NormalModel>(phys->normalModel), static_cast<viscbridge::TangentialModel>(phys->tangentialModel),
+	        phys->viscosity, phys->rEff, phys->bridgeVolume, phys->sMin, phys->radius1, phys->radius2);
+	interaction->phys = phys;
 }
 
 } // namespace yade

@@ -58,6 +58,7 @@ namespace {
 		st.shearElastic   = geom.rotate(ph.shearElastic);
 		st.shearPotential = ph.shearPotential;
 		st.bridge         = ph.bridge;
+		if constexpr (E) st.lastViscous = { ph.workPending, ph.workCn, ph.workVn, ph.workU, ph.workS, { ph.workM1[0], ph.workM1[1], ph.workM2[0], ph.workM2[1] } };
 
 		const vb::PairModels<N, T, D> models { makeModel<N>(ph), makeModel<T>(ph), makeModel<D>(ph) };
 		const vb::PairParams          params { { ph.kno, ph.kso, ph.tangensOfFrictionAngle }, ph.mEff, ph.sMin, ph.sRup, ph.formationDistance };
@@ -65,6 +66,18 @@ namespace {
 		const bool                    keep = vb::evaluatePair<E>(models, params, st, in, out);
 		ph.bridge                          = st.bridge;
 		ph.separation                      = in.S;
+		if constexpr (E) {
+			const vb::ViscousWorkRecord& w = st.lastViscous;
+			ph.workPending                 = w.pending;
+			ph.workCn                      = w.cn;
+			ph.workVn                      = w.vn;
+			ph.workU                       = w.u;
+			ph.workS                       = w.s;
+			ph.workM1                      = Vector2r(w.resistance.m11, w.resistance.m12);
+			ph.workM2                      = Vector2r(w.resistance.m21, w.resistance.m22);
+		} else {
+			ph.workPending = false; // work is only accounted between two tracked steps
+		}
 		if (!keep) return false;
 
 		ph.shearElastic       = st.shearElastic;

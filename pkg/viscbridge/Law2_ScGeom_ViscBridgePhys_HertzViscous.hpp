@@ -35,8 +35,11 @@ public:
 		"``viscDissipTangential`` (sliding part of the tangential dissipation), "
 		"``viscDissipRotational`` (the part that resists rolling; negative only with 'washino', which "
 		"is not dissipative), ``contactDampDissip`` (with en<1), ``plastDissip`` (friction) — all "
-		"cumulative — and ``elastPotential`` (current Hertz–Mindlin elastic energy). Dissipation is "
-		"computed with the same velocities as the forces.",
+		"cumulative — and ``elastPotential`` (current Hertz–Mindlin elastic energy). The viscous "
+		"dissipation of a step is the work of that step's forces, evaluated from the velocities the "
+		"forces were computed with and the velocities that followed ($W=F\\cdot(v_{n-1/2}+v_{n+1/2})/2\\,\\Delta t$, "
+		"booked at the next step, when $v_{n+1/2}$ is known): it matches the kinetic energy YADE's "
+		"leapfrog reports, so ``O.energy.total()`` stays near 0 at any stable time step.",
 		((string,integration,"explicit",Attr::triggerPostLoad,"Time integration of the viscous forces: 'explicit' (the paper's framework: forces from the velocities the integrator stores; stable for $\\Delta t<2t_v$, P12) or 'implicit' (backward Euler over the contact network, P15; not available yet)."))
 	);
 	// clang-format on

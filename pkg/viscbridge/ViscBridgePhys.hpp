@@ -26,6 +26,14 @@ public:
 		((Real,betas,0,Attr::readonly,"Tangential contact damping ratio (equal to betan)."))
 		((Vector3r,shearElastic,Vector3r::Zero(),Attr::readonly,"Elastic tangential contact force, incrementally updated (YADE sense: sustained by body 2) [N]."))
 		((Real,shearPotential,0,Attr::readonly,"Elastic energy stored in the tangential contact spring, accumulated as $\\sum(|F_s|^2-|F_{s,prev}|^2)/(2k_s)$ while energy is tracked [J]."))
+		// the last step's viscous forces, whose work is accounted at the next step (energy tracking)
+		((bool,workPending,false,Attr::hidden,"A previous step's viscous work is still to be accounted."))
+		((Real,workCn,0,Attr::hidden,"C^n of that step."))
+		((Real,workVn,0,Attr::hidden,"Relative normal velocity of that step."))
+		((Vector3r,workU,Vector3r::Zero(),Attr::hidden,"Tangential relative velocity u of that step."))
+		((Vector3r,workS,Vector3r::Zero(),Attr::hidden,"Rotational term s of that step."))
+		((Vector2r,workM1,Vector2r::Zero(),Attr::hidden,"Resistance row (m11, m12) of that step."))
+		((Vector2r,workM2,Vector2r::Zero(),Attr::hidden,"Resistance row (m21, m22) of that step."))
 		// pair
 		((Real,radius1,0,Attr::readonly,"True radius of body 1; 0 if body 1 is not a sphere (wall, facet, box) [m]."))
 		((Real,radius2,0,Attr::readonly,"True radius of body 2; 0 if body 2 is not a sphere [m]."))
@@ -39,6 +47,7 @@ public:
 		((Real,sMin,0,Attr::readonly,"Minimum gap $S_{min}$ at which the viscous coefficients are evaluated (P6) [m]."))
 		((Real,sRup,0,Attr::readonly,"Rupture distance $S_{rup}=(1+\\theta/2)V^{1/3}$ (P11) [m]."))
 		((Real,formationDistance,0,Attr::readonly,"The bridge forms when $S$ falls below this distance (0: at contact) [m]."))
+		((Real,viscousStepCoefficient,0,Attr::readonly,"$C_n + w_tC_t$ at $S_{min}$: the largest viscous damping of this bridge as the time step sees it (P14; $w_t$ = 3.5, or $1+2.5(1+S_{min}/2r)^2$ for slip) [N·s/m]."))
 		((bool,bridge,false,Attr::readonly,"Whether the liquid bridge exists."))
 		// state of the last step
 		((Real,separation,0,Attr::readonly,"Surface gap $S$ of the last step, negative in overlap [m]."))

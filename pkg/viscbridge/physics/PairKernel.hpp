@@ -40,12 +40,23 @@ struct PairInput {
 	double         dt;
 };
 
+// The viscous forces of the last step, kept (with energy tracking) until the next step shows the
+// velocities they produced: their work is then W = F·(v_before + v_after)/2·Δt, consistent with
+// the kinetic energy YADE's leapfrog reports (physics.md §6).
+struct ViscousWorkRecord {
+	bool                 pending = false;
+	double               cn = 0, vn = 0;                    // normal: C^n and v_r·n
+	Vec3                 u = Vec3::Zero(), s = Vec3::Zero(); // tangential kinematics
+	TangentialResistance resistance;
+};
+
 // Carried from step to step.  The caller rotates shearElastic into the current contact frame
 // (YADE's ScGeom::rotate) before each call.
 struct PairState {
-	Vec3   shearElastic   = Vec3::Zero(); // elastic tangential force, YADE sense (on body 2)
-	double shearPotential = 0;            // elastic energy stored in shear (tracked with energy only)
-	bool   bridge         = false;
+	Vec3              shearElastic   = Vec3::Zero(); // elastic tangential force, YADE sense (on body 2)
+	double            shearPotential = 0;            // elastic energy stored in shear (tracked with energy only)
+	bool              bridge         = false;
+	ViscousWorkRecord lastViscous;
 };
 
 struct PairOutput {
@@ -154,7 +165,10 @@ bool evaluatePair(const PairModels<Normal, Tangential, Damping>& m, const PairPa
 
 	// ---- viscous bridge (P3–P9) ------------------------------------------------------------------
 	if constexpr (hasBridge) {
-		if (!st.bridge) return true;
+		if (!st.bridge) {
+			st.lastViscous.pending = false;
+			return true;
+		}
 		const double sEff   = clampedGap(S, p.sMin);
 		const double lambda = Tangential::armGapFraction;
 		const bool   wall1 = in.b1.radius <= 0, wall2 = in.b2.radius <= 0;
@@ -170,11 +184,18 @@ bool evaluatePair(const PairModels<Normal, Tangential, Damping>& m, const PairPa
 		const Vec3   vr = V1 - V2;
 		const double vn = vr.dot(in.n);
 		Vec3         viscous1 = Vec3::Zero();
+		// The previous step's viscous forces did their work while the velocities went from the
+		// recorded ones to the current ones (in.dt is the step the integrator just made).
+		[[maybe_unused]] ViscousWorkRecord& last = st.lastViscous;
 		if constexpr (Normal::enabled) {
 			out.cn            = m.normal.coefficient(sEff);
 			out.normalViscous = -out.cn * vn * in.n; // P3: −C^n v_r^n
 			viscous1 += out.normalViscous;
-			if constexpr (TrackEnergy) out.dissipNormal = out.cn * vn * vn * in.dt;
+			if constexpr (TrackEnergy) {
+				if (last.pending) out.dissipNormal = last.cn * last.vn * 0.5 * (last.vn + vn) * in.dt;
+				last.cn = out.cn;
+				last.vn = vn;
+			}
 		}
 		if constexpr (Tangential::enabled) {
 			const TangentialKinematics    k { in.n, vr - vn * in.n, in.b1.angVel, in.b2.angVel, in.b1.radius, in.b2.radius, S, sEff };
@@ -186,10 +207,17 @@ bool evaluatePair(const PairModels<Normal, Tangential, Damping>& m, const PairPa
 			out.torque1 += t.torque1;
 			out.torque2 += t.torque2;
 			if constexpr (TrackEnergy) {
-				out.dissipTangential = t.dissipationSliding * in.dt;
-				out.dissipRotational = t.dissipationRolling * in.dt;
+				if (last.pending) {
+					const TangentialWork w = tangentialWork(last.resistance, last.u, last.s, t.u, t.s);
+					out.dissipTangential   = w.sliding * in.dt;
+					out.dissipRotational   = w.rolling * in.dt;
+				}
+				last.u          = t.u;
+				last.s          = t.s;
+				last.resistance = t.resistance;
 			}
 		}
+		if constexpr (TrackEnergy) last.pending = true;
 		out.force1 += viscous1;
 		if (wall1) out.torque1 += (anchor1 - in.b1.pos).cross(viscous1);
 		if (wall2) out.torque2 += (anchor2 - in.b2.pos).cross(-viscous1);

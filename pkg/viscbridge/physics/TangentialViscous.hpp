@@ -18,6 +18,13 @@
 
 namespace viscbridge {
 
+// The resistance of a model in the (u, s) coordinates: force on body 1 F = −(m11 u + m12 s) and
+// torque-force G = −(m21 u + m22 s), whose torques are a_k n × G.  The viscous power is then
+// −(F·u + G·s) for any model.
+struct TangentialResistance {
+	double m11 = 0, m12 = 0, m21 = 0, m22 = 0;
+};
+
 struct TangentialViscousResult {
 	Vec3   force1  = Vec3::Zero(); // on body 1
 	Vec3   torque1 = Vec3::Zero(); // on body 1 (sphere side only)
@@ -26,7 +33,34 @@ struct TangentialViscousResult {
 	double cr      = 0;            // C_R actually used (0 for slip)
 	double dissipationSliding = 0; // a|u + (b/a)s|²  [W]
 	double dissipationRolling = 0; // (c − b²/a)|s|²  [W]
+	Vec3   u = Vec3::Zero(), s = Vec3::Zero(); // the kinematics the force was computed from
+	TangentialResistance resistance;
 };
+
+// Work done against the force of a previous step (kinematics uPrev, sPrev, resistance m) while the
+// velocities went from (uPrev, sPrev) to (uNow, sNow): W = (m11 u_p + m12 s_p)·ū + (m21 u_p + m22 s_p)·s̄
+// per unit time, ū, s̄ the means.  This is the leapfrog-consistent dissipation (it matches the
+// change of kinetic energy YADE reports).  Split as the instantaneous power: the sliding part
+// a(ū + (b/a)s̄)·(u_p + (b/a)s_p) with K's symmetric part [[a, b], [b, c]], the rest (the rolling
+// resistance, and for washino the antisymmetric part of K) as rolling.
+struct TangentialWork {
+	double sliding = 0, rolling = 0;
+};
+inline TangentialWork tangentialWork(const TangentialResistance& m, const Vec3& uPrev, const Vec3& sPrev, const Vec3& uNow, const Vec3& sNow)
+{
+	const Vec3     uMid = 0.5 * (uPrev + uNow), sMid = 0.5 * (sPrev + sNow);
+	const double   b = 0.5 * (m.m12 + m.m21), antisymmetric = 0.5 * (m.m21 - m.m12) * (uPrev.dot(sMid) - sPrev.dot(uMid));
+	TangentialWork w;
+	if (m.m11 > 0) {
+		// written with b/m11 (exactly 1 for slip) so that slip's rolling part is exactly 0
+		const double ratio = b / m.m11;
+		w.sliding          = m.m11 * (uMid + ratio * sMid).dot(uPrev + ratio * sPrev);
+		w.rolling          = (m.m22 - b * ratio) * sMid.dot(sPrev) + antisymmetric;
+	} else {
+		w.rolling = (m.m21 * uPrev + m.m22 * sPrev).dot(sMid) + m.m12 * sPrev.dot(uMid);
+	}
+	return w;
+}
 
 // Inputs shared by the models: S the actual gap (arms), sEff = max(S, S_min) (coefficients).
 struct TangentialKinematics {
@@ -63,6 +97,9 @@ struct WashinoTangential {
 		TangentialViscousResult   r;
 		r.ct                 = c.translation;
 		r.cr                 = c.coupling;
+		r.u                  = k.u;
+		r.s                  = s;
+		r.resistance         = { r.ct, r.cr, r.ct, r.cr };
 		r.force1             = -(r.ct * k.u + r.cr * s);
 		r.torque1            = a1 * k.n.cross(r.force1);
 		r.torque2            = a2 * k.n.cross(r.force1);
@@ -87,11 +124,15 @@ struct SlipTangential {
 	{
 		const double            half = 0.5 * k.S;
 		const double            a1 = detail::arm(k.radius1, half), a2 = detail::arm(k.radius2, half);
-		const Vec3              slip = k.u + (a1 * k.omega1 + a2 * k.omega2).cross(k.n);
+		const Vec3              s    = (a1 * k.omega1 + a2 * k.omega2).cross(k.n);
+		const Vec3              slip = k.u + s;
 		TangentialViscousResult r;
 		// C_T of P8 is positive up to S ≈ 6 r̄, far beyond any bridge's rupture distance; the floor
 		// only guarantees that the model stays dissipative for any input.
 		r.ct                 = detail::clampPositive(goldmanCoefficients(sixPiMuR, rBar, k.sEff).translation);
+		r.u                  = k.u;
+		r.s                  = s;
+		r.resistance         = { r.ct, r.ct, r.ct, r.ct };
 		r.force1             = -r.ct * slip;
 		r.torque1            = a1 * k.n.cross(r.force1);
 		r.torque2            = a2 * k.n.cross(r.force1);
@@ -125,6 +166,9 @@ struct GoldmanTangential {
 		TangentialViscousResult r;
 		r.ct                 = c.translation;
 		r.cr                 = c.coupling;
+		r.u                  = k.u;
+		r.s                  = s;
+		r.resistance         = { c.translation, c.coupling, c.coupling, c.rotation };
 		r.force1             = -(c.translation * k.u + c.coupling * s);
 		const Vec3 fs        = -(c.coupling * k.u + c.rotation * s);
 		r.torque1            = a1 * k.n.cross(fs);
