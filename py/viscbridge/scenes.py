@@ -80,37 +80,47 @@ class Settling:
     def run(self, duration=None, steps=None, points=200, stop_when_unstable=True):
         """Advance the scene by `duration` [s] of simulated time or by `steps` steps, logging about
         `points` rows; with stop_when_unstable, stop at the first logged row that fails the
-        instability criterion.  Returns the reason it stopped early (or None)."""
+        instability criterion (:func:`instability`).  Returns why it stopped early, or None."""
         if (duration is None) == (steps is None):
             raise ValueError('Settling.run: give exactly one of duration=... [s] or steps=...')
         if duration is not None and not duration > 0:
             raise ValueError('Settling.run: duration=%r is out of range; allowed: > 0 [s]' % (duration,))
         if steps is not None and not (int(steps) == steps and steps > 0):
             raise ValueError('Settling.run: steps=%r is out of range; allowed: integer > 0' % (steps,))
-        if points < 1:
-            raise ValueError('Settling.run: points=%r is out of range; allowed: >= 1' % (points,))
+        if not (isinstance(points, int) and points >= 1):
+            raise ValueError('Settling.run: points=%r is out of range; allowed: integer >= 1' % (points,))
         if not plot.data:
             self.record()
-        t_end = O.time + duration if duration is not None else None
-        iter_end = O.iter + int(steps) if steps is not None else None
-        chunk_steps = max(1, int(steps) // points) if steps is not None else None
-        while True:
-            if iter_end is not None:
-                n = min(chunk_steps, iter_end - O.iter)
-                if n <= 0:
-                    break
-                O.run(n, True)
+        self.stopped_because = None
+        self._stop_when_unstable = stop_when_unstable
+        # One O.run() for the whole stretch (O.run(n, True) polls every 40 ms, so many short runs
+        # would be slow); a PyRunner logs, checks stability and pauses the run when it fails.
+        if steps is not None:
+            logger = yw.PyRunner(iterPeriod=max(1, int(steps) // points), command=_LOG_COMMAND)
+        else:
+            logger = yw.PyRunner(virtPeriod=duration / points, command=_LOG_COMMAND)
+        _ACTIVE[0] = self
+        O.engines = O.engines + [logger]
+        try:
+            if steps is not None:
+                O.run(int(steps), True)
             else:
-                if O.time >= t_end:
-                    break
-                # run to the next logging time; dt may change on the way (time stepper)
-                n = max(1, int(math.ceil(min(duration / points, t_end - O.time) / O.dt)))
-                O.run(n, True)
+                O.stopAtTime = O.time + duration
+                O.run(-1, True)
+                O.stopAtTime = 0
+        finally:
+            O.engines = [e for e in O.engines if not (isinstance(e, yw.PyRunner) and e.command == _LOG_COMMAND)]
+            _ACTIVE[0] = None
+        if self.stopped_because is None:
             self.record()
-            why = self.unstable()
-            if why and stop_when_unstable:
-                return why
-        return None
+        return self.stopped_because
+
+    def _log(self):
+        self.record()
+        why = self.unstable()
+        if why and self._stop_when_unstable and self.stopped_because is None:
+            self.stopped_because = why
+            O.pause()
 
     # -- output ---------------------------------------------------------------------------------
     def save(self, prefix):
@@ -129,6 +139,16 @@ class Settling:
         return 'n=%d, r=%.3g m, μ=%.3g Pa·s, S_min/r̄=%s, %s, %s' % (
             p['n'], p['radius'], p['viscosity'], p['sMinRel'] if not p['sMin'] else '%.3g m' % p['sMin'],
             p['integration'], dt)
+
+
+_ACTIVE = [None]
+_LOG_COMMAND = 'import viscbridge.scenes; viscbridge.scenes._log()'
+
+
+def _log():
+    """PyRunner hook of :meth:`Settling.run`."""
+    if _ACTIVE[0] is not None:
+        _ACTIVE[0]._log()
 
 
 def write_history_csv(data, path):
