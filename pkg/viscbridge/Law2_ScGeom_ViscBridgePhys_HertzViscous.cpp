@@ -1,6 +1,8 @@
 #include "Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
 #include "physics/ModelNames.hpp"
 #include "physics/PairKernel.hpp"
+#include "ViscBridgeGuard.hpp"
+#include "ViscBridgeImplicitSolver.hpp"
 #include <core/Scene.hpp>
 #include <array>
 #include <tuple>
@@ -32,8 +34,9 @@ namespace {
 
 	using Kernel = bool (*)(Law2&, ScGeom&, ViscBridgePhys&, Interaction*);
 
-	// One interaction step with the models N, T, D fixed at compile time; E: track energy.
-	template <class N, class T, class D, bool E> bool explicitKernel(Law2& law, ScGeom& geom, ViscBridgePhys& ph, Interaction* I)
+	// One interaction step with the models N, T, D fixed at compile time; E: track energy;
+	// Imp: leave the viscous forces to ViscBridgeImplicitSolver (describe them in the physics).
+	template <class N, class T, class D, bool E, bool Imp> bool lawKernel(Law2& law, ScGeom& geom, ViscBridgePhys& ph, Interaction* I)
 	{
 		Scene*           scene = law.scene;
 		const Body::id_t id1 = I->getId1(), id2 = I->getId2();
@@ -63,7 +66,7 @@ namespace {
 		const vb::PairModels<N, T, D> models { makeModel<N>(ph), makeModel<T>(ph), makeModel<D>(ph) };
 		const vb::PairParams          params { { ph.kno, ph.kso, ph.tangensOfFrictionAngle }, ph.mEff, ph.sMin, ph.sRup, ph.formationDistance };
 		vb::PairOutput                out;
-		const bool                    keep = vb::evaluatePair<E>(models, params, st, in, out);
+		const bool                    keep = vb::evaluatePair<E, Imp>(models, params, st, in, out);
 		ph.bridge                          = st.bridge;
 		ph.separation                      = in.S;
 		if constexpr (E) {
@@ -91,8 +94,17 @@ namespace {
 		ph.shearContactForce  = out.shearContact;
 		ph.normalViscousForce = out.normalViscous;
 		ph.shearViscousForce  = out.shearViscous;
-		ph.normalForce        = -(out.normalContact + out.normalViscous); // YADE sense: sustained by body 2
-		ph.shearForce         = -(out.shearContact + out.shearViscous);
+		if constexpr (Imp) {
+			// the solver sets the viscous forces from the implicit velocities, later in this step
+			ph.implicitBlock      = out.block;
+			ph.implicitBlockIter  = scene->iter;
+			ph.normalViscousForce = ph.shearViscousForce = Vector3r::Zero();
+			ph.normalForce        = -out.normalContact; // YADE sense: sustained by body 2
+			ph.shearForce         = -out.shearContact;
+		} else {
+			ph.normalForce = -(out.normalContact + out.normalViscous);
+			ph.shearForce  = -(out.shearContact + out.shearViscous);
+		}
 
 		scene->forces.addForce(id1, out.force1);
 		scene->forces.addForce(id2, -out.force1);
@@ -112,13 +124,18 @@ namespace {
 		return true;
 	}
 
-	template <std::size_t K> constexpr Kernel kernelAt()
+	template <bool Imp, std::size_t K> constexpr Kernel kernelAt()
 	{
 		constexpr std::size_t e = K % 2, d = (K / 2) % nDamping, t = (K / (2 * nDamping)) % nTangential, n = K / (2 * nDamping * nTangential);
-		return &explicitKernel<std::tuple_element_t<n, NormalModels>, std::tuple_element_t<t, TangentialModels>, std::tuple_element_t<d, DampingModels>, e == 1>;
+		return &lawKernel<std::tuple_element_t<n, NormalModels>, std::tuple_element_t<t, TangentialModels>, std::tuple_element_t<d, DampingModels>, e == 1, Imp>;
 	}
-	template <std::size_t... K> constexpr std::array<Kernel, sizeof...(K)> makeKernelTable(std::index_sequence<K...>) { return { kernelAt<K>()... }; }
-	constexpr auto explicitKernels = makeKernelTable(std::make_index_sequence<nNormal * nTangential * nDamping * 2>());
+	template <bool Imp, std::size_t... K> constexpr std::array<Kernel, sizeof...(K)> makeKernelTable(std::index_sequence<K...>)
+	{
+		return { kernelAt<Imp, K>()... };
+	}
+	constexpr std::size_t nKernels        = nNormal * nTangential * nDamping * 2;
+	constexpr auto        explicitKernels = makeKernelTable<false>(std::make_index_sequence<nKernels>());
+	constexpr auto        implicitKernels = makeKernelTable<true>(std::make_index_sequence<nKernels>());
 
 	inline std::size_t kernelIndex(const ViscBridgePhys& ph, bool trackEnergy)
 	{
@@ -145,10 +162,7 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::postLoad(Law2_ScGeom_ViscBridgePhy
 {
 	static const std::string name = "Law2_ScGeom_ViscBridgePhys_HertzViscous";
 	try {
-		const int idx = viscbridge::parseName(name, "integration", integration, viscbridge::integrationNames);
-		if (idx == static_cast<int>(viscbridge::Integration::implicitEuler))
-			throw std::invalid_argument(name + ".integration='implicit' is not available yet; allowed: 'explicit'.");
-		integrationIndex = idx;
+		integrationIndex = viscbridge::parseName(name, "integration", integration, viscbridge::integrationNames);
 	} catch (const std::invalid_argument&) {
 		integration = lastValidIntegration;
 		throw;
@@ -156,11 +170,42 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::postLoad(Law2_ScGeom_ViscBridgePhy
 	lastValidIntegration = integration;
 }
 
+bool Law2_ScGeom_ViscBridgePhys_HertzViscous::solverPresent()
+{
+	// Looked up once per step (the first interaction of the step does it, the others wait).
+	if (solverCheckedIter.load(std::memory_order_acquire) == scene->iter) return solverFound;
+#ifdef YADE_OPENMP
+#pragma omp critical(viscbridge_solver_lookup)
+#endif
+	{
+		if (solverCheckedIter.load(std::memory_order_relaxed) != scene->iter) {
+			solverFound = false;
+			for (const auto& e : scene->engines)
+				if (dynamic_cast<const ViscBridgeImplicitSolver*>(e.get())) solverFound = true;
+			if (!solverFound) reportMissingSolver();
+			solverCheckedIter.store(scene->iter, std::memory_order_release);
+		}
+	}
+	return solverFound;
+}
+
+void Law2_ScGeom_ViscBridgePhys_HertzViscous::reportMissingSolver()
+{
+	// Exceptions cannot leave InteractionLoop's parallel loop, so the error is raised by a
+	// ViscBridgeGuard at the start of the next step (this step falls back to explicit forces).
+	const std::string msg = "Law2_ScGeom_ViscBridgePhys_HertzViscous.integration='implicit' needs a ViscBridgeImplicitSolver engine between "
+	                        "InteractionLoop and NewtonIntegrator, and O.engines has none (viscbridge.engines(integration='implicit') inserts it).";
+	LOG_ERROR(msg << " This step used explicit viscous forces; the run stops.");
+	ViscBridgeGuard::raiseAtNextStep(scene, msg);
+}
+
 bool Law2_ScGeom_ViscBridgePhys_HertzViscous::go(shared_ptr<IGeom>& ig, shared_ptr<IPhys>& ip, Interaction* I)
 {
-	auto& geom = static_cast<ScGeom&>(*ig);
-	auto& ph   = static_cast<ViscBridgePhys&>(*ip);
-	return explicitKernels[kernelIndex(ph, scene->trackEnergy)](*this, geom, ph, I);
+	auto&             geom = static_cast<ScGeom&>(*ig);
+	auto&             ph   = static_cast<ViscBridgePhys&>(*ip);
+	const std::size_t k    = kernelIndex(ph, scene->trackEnergy);
+	if (integrationIndex == static_cast<int>(viscbridge::Integration::implicitEuler) && solverPresent()) return implicitKernels[k](*this, geom, ph, I);
+	return explicitKernels[k](*this, geom, ph, I);
 }
 
 } // namespace yade

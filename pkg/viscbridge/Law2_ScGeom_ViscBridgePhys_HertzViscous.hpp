@@ -4,6 +4,7 @@
 #include "ViscBridgePhys.hpp"
 #include <core/Dispatching.hpp>
 #include <pkg/dem/ScGeom.hpp>
+#include <atomic>
 
 namespace yade {
 
@@ -15,6 +16,11 @@ public:
 	int viscDissipNormalIx = -1, viscDissipTangentialIx = -1, viscDissipRotationalIx = -1, contactDampDissipIx = -1, plastDissipIx = -1,
 	    elastPotentialIx = -1;
 	int integrationIndex = 0; // parsed `integration`
+	// Whether O.engines has a ViscBridgeImplicitSolver, checked once per step.
+	std::atomic<long> solverCheckedIter { -1 };
+	bool              solverFound = false;
+	bool              solverPresent();
+	void              reportMissingSolver();
 
 	bool go(shared_ptr<IGeom>& geom, shared_ptr<IPhys>& phys, Interaction* interaction) override;
 	void postLoad(Law2_ScGeom_ViscBridgePhys_HertzViscous&);
@@ -40,7 +46,7 @@ public:
 		"forces were computed with and the velocities that followed ($W=F\\cdot(v_{n-1/2}+v_{n+1/2})/2\\,\\Delta t$, "
 		"booked at the next step, when $v_{n+1/2}$ is known): it matches the kinetic energy YADE's "
 		"leapfrog reports, so ``O.energy.total()`` stays near 0 at any stable time step.",
-		((string,integration,"explicit",Attr::triggerPostLoad,"Time integration of the viscous forces: 'explicit' (the paper's framework: forces from the velocities the integrator stores; stable for $\\Delta t<2t_v$, P12) or 'implicit' (backward Euler over the contact network, P15; not available yet)."))
+		((string,integration,"explicit",Attr::triggerPostLoad,"Time integration of the viscous forces: 'explicit' (the paper's framework: forces from the velocities the integrator stores; stable for $\\Delta t<2t_v$, P12) or 'implicit' (backward Euler over the contact network, P15, solved by :yref:`ViscBridgeImplicitSolver`, which must be in O.engines; unconditionally stable for the viscous part)."))
 	);
 	// clang-format on
 	DECLARE_LOGGER;

@@ -5,9 +5,11 @@
 #include "Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
 #include "ViscBridgePhys.hpp"
 #include "ViscBridgeTimeStepper.hpp"
+#include "ViscBridgeGuard.hpp"
+#include "ViscBridgeImplicitSolver.hpp"
 
 namespace yade {
 YADE_PLUGIN((ViscBridgeHeaderProbe)(ViscBridgePhys)(Ip2_FrictMat_FrictMat_ViscBridgePhys)(Law2_ScGeom_ViscBridgePhys_HertzViscous)
             (Ig2_Wall_Sphere_ViscBridgeScGeom)(Ig2_Facet_Sphere_ViscBridgeScGeom)
-            (ViscBridgeTimeStepper));
+            (ViscBridgeTimeStepper)(ViscBridgeImplicitSolver)(ViscBridgeGuard));
 } // namespace yade

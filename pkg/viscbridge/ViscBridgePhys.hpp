@@ -1,5 +1,6 @@
 // ViscBridgePhys: Hertz–Mindlin contact state plus a viscous liquid bridge (physics.md §2).
 #pragma once
+#include "physics/PairKernel.hpp"
 #include <pkg/dem/FrictPhys.hpp>
 
 namespace yade {
@@ -7,6 +8,10 @@ namespace yade {
 class ViscBridgePhys : public FrictPhys {
 public:
 	virtual ~ViscBridgePhys() = default;
+	// With implicit integration: the bridge's damping as described by the law in step
+	// implicitBlockIter, for ViscBridgeImplicitSolver (not saved: rebuilt every step).
+	viscbridge::ViscousBlock implicitBlock;
+	long                     implicitBlockIter = -1;
 	std::string normalModelName() const;
 	std::string tangentialModelName() const;
 	// clang-format off

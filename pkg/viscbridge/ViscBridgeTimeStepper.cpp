@@ -35,7 +35,7 @@ void ViscBridgeTimeStepper::postLoad(ViscBridgeTimeStepper&)
 	lastValidMaxDt    = maxDt;
 }
 
-bool ViscBridgeTimeStepper::viscousIsImplicit(const Scene* sc) const
+bool viscousIntegrationIsImplicit(const Scene* sc)
 {
 	for (const auto& e : sc->engines) {
 		const auto* loop = dynamic_cast<const InteractionLoop*>(e.get());
@@ -48,12 +48,11 @@ bool ViscBridgeTimeStepper::viscousIsImplicit(const Scene* sc) const
 	return false;
 }
 
-void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
+void NetworkTimeStepBound::evaluate(Scene* sc, bool implicit, Real rayleighFraction)
 {
-	namespace vb       = viscbridge;
-	const Real inf     = std::numeric_limits<Real>::infinity();
-	const bool implicit = viscousIsImplicit(sc);
-	const size_t n      = sc->bodies->size();
+	namespace vb   = viscbridge;
+	const Real   inf = std::numeric_limits<Real>::infinity();
+	const size_t n   = sc->bodies->size();
 	damping.assign(n, 0);
 	contactDamping.assign(n, 0);
 	stiffness.assign(n, 0);
@@ -76,11 +75,11 @@ void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 		}
 	}
 
-	Real collision = inf, viscous = inf, combined = inf;
-	criticalBody   = -1;
+	collision = viscous = combined = inf;
+	criticalBody                    = -1;
 	for (const auto& b : *sc->bodies) {
 		if (!b || !b->isDynamic() || !(b->state->mass > 0)) continue;
-		const Body::id_t id = b->getId();
+		const Body::id_t id  = b->getId();
 		Real             own = vb::springLimit(stiffness[id]);
 		if (contactDamping[id] > 0) own = vb::networkLimit(contactDamping[id], stiffness[id]);
 		const auto* sphere = dynamic_cast<const Sphere*>(b->shape.get());
@@ -94,11 +93,17 @@ void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 			criticalBody = id;
 		}
 	}
-	dtCollision = safety * collision;
-	dtViscous   = safety * viscous;
-	dtBound     = safety * combined;
-	governing   = dtViscous < dtCollision ? "viscous" : "collision";
-	Real dt     = dtBound;
+}
+
+void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
+{
+	bound.evaluate(sc, viscousIntegrationIsImplicit(sc), rayleighFraction);
+	criticalBody = bound.criticalBody;
+	dtCollision  = safety * bound.collision;
+	dtViscous    = safety * bound.viscous;
+	dtBound      = safety * bound.combined;
+	governing    = dtViscous < dtCollision ? "viscous" : "collision";
+	Real dt      = dtBound;
 	if (maxDt > 0) dt = std::min(dt, maxDt);
 	if (!std::isfinite(dt)) return; // nothing to bound (no dynamic spheres, no contacts): keep dt
 	sc->dt = std::min(dt, maxGrowth * sc->dt);

@@ -4,14 +4,23 @@
 
 namespace yade {
 
+// P14 over the live interactions (without the safety factor); see ViscBridgeTimeStepper.
+struct NetworkTimeStepBound {
+	Real       collision = 0, viscous = 0, combined = 0; // [s], inf when nothing bounds them
+	Body::id_t criticalBody = -1;
+	// per-body rates of P14 (index: body id), kept to be reused between calls
+	std::vector<Real> damping, stiffness, contactDamping;
+	void              evaluate(Scene* scene, bool viscousImplicit, Real rayleighFraction);
+};
+bool viscousIntegrationIsImplicit(const Scene* scene);
+
 class ViscBridgeTimeStepper : public TimeStepper {
-	std::vector<Real> damping, stiffness, contactDamping; // per body, reused between steps
+	NetworkTimeStepBound bound;
 	Real              lastValidSafety = 0.5, lastValidGrowth = 1.1, lastValidRayleigh = 0.4, lastValidMaxDt = 0;
 
 public:
 	void computeTimeStep(Scene*) override;
 	void postLoad(ViscBridgeTimeStepper&);
-	bool viscousIsImplicit(const Scene*) const;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR(ViscBridgeTimeStepper, TimeStepper,
 		"Sets :yref:`O.dt<Omega.dt>` = safety × the rigorous network bound P14 of physics §3, "

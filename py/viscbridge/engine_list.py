@@ -74,7 +74,12 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
     law = yw.Law2_ScGeom_ViscBridgePhys_HertzViscous(label=label_prefix + 'viscBridgeLaw', integration=integration)
     aabb, sphereFactor, reach, boxFactor = _detection_range(ip2.formationDistance, minRadius)
 
-    out = [
+    out = []
+    if guard and hasattr(yw, 'ViscBridgeGuard'):
+        # first: it checks the scene before the interaction loop could crash on it, and sees the
+        # last step's forces (before ForceResetter) to account for the work of moving walls
+        out.append(yw.ViscBridgeGuard(label=label_prefix + 'guard'))
+    out += [
         yw.ForceResetter(),
         yw.InsertionSortCollider([yw.Bo1_Sphere_Aabb(aabbEnlargeFactor=aabb), yw.Bo1_Wall_Aabb(),
                                   yw.Bo1_Facet_Aabb(), yw.Bo1_Box_Aabb()], label=label_prefix + 'collider'),
@@ -91,6 +96,4 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
     if integration == 'implicit' and hasattr(yw, 'ViscBridgeImplicitSolver'):
         out.append(yw.ViscBridgeImplicitSolver(label=label_prefix + 'implicitSolver'))
     out.append(yw.NewtonIntegrator(gravity=gravity, damping=0.0, label=label_prefix + 'newton'))
-    if guard and hasattr(yw, 'ViscBridgeGuard'):
-        out.append(yw.ViscBridgeGuard(label=label_prefix + 'guard'))
     return out

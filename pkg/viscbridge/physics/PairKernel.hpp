@@ -59,6 +59,18 @@ struct PairState {
 	ViscousWorkRecord lastViscous;
 };
 
+// A bridge's damping as a linear map, for the implicit solver (P15): with dv = V1 − V2 (a wall side's
+// V at its anchor, r_k from its centre), u = (I − nnᵀ)dv and s = (a1 ω1 + a2 ω2) × n, the force on
+// body 1 is −(cn (n·dv) n + m11 u + m12 s), the torque on sphere side k is a_k n × (−(m21 u + m22 s)).
+struct ViscousBlock {
+	bool                 valid = false;
+	Vec3                 n     = Vec3::Zero();
+	double               cn    = 0;
+	TangentialResistance resistance;
+	double               a1 = 0, a2 = 0;              // arms of the sphere sides (0 for a wall side)
+	Vec3                 r1 = Vec3::Zero(), r2 = Vec3::Zero(); // wall anchor − wall centre (0 for a sphere side)
+};
+
 struct PairOutput {
 	Vec3   force1 = Vec3::Zero(), torque1 = Vec3::Zero(), torque2 = Vec3::Zero();
 	Vec3   normalContact = Vec3::Zero(), shearContact = Vec3::Zero(); // on body 1
@@ -67,6 +79,7 @@ struct PairOutput {
 	// Energy (filled only when tracking): dissipated during this step [J] and stored [J].
 	double dissipNormal = 0, dissipTangential = 0, dissipRotational = 0, dissipContactDamping = 0, dissipFriction = 0;
 	double elasticPotential = 0;
+	ViscousBlock block; // filled instead of applying the viscous forces when they are implicit
 };
 
 template <class Normal, class Tangential, class Damping> struct PairModels {
@@ -84,7 +97,9 @@ inline Vec3 wallAnchor(const BodyKinematics& sphere, const Vec3& towardsWall, do
 }
 
 // Evaluates one step; returns false when the interaction should be erased (no contact, no bridge).
-template <bool TrackEnergy, class Normal, class Tangential, class Damping>
+// ImplicitViscous: the viscous forces are left to the implicit solver (P15); the kernel describes
+// them in out.block instead of applying them, and their work is accounted by the solver.
+template <bool TrackEnergy, bool ImplicitViscous = false, class Normal, class Tangential, class Damping>
 bool evaluatePair(const PairModels<Normal, Tangential, Damping>& m, const PairParams& p, PairState& st, const PairInput& in, PairOutput& out)
 {
 	constexpr bool hasBridge = PairModels<Normal, Tangential, Damping>::hasBridge;
@@ -183,7 +198,8 @@ bool evaluatePair(const PairModels<Normal, Tangential, Damping>& m, const PairPa
 		}
 		const Vec3   vr = V1 - V2;
 		const double vn = vr.dot(in.n);
-		Vec3         viscous1 = Vec3::Zero();
+		Vec3         viscous1 = Vec3::Zero(), viscousTorque1 = Vec3::Zero(), viscousTorque2 = Vec3::Zero();
+		[[maybe_unused]] TangentialResistance resistance;
 		// The previous step's viscous forces did their work while the velocities went from the
 		// recorded ones to the current ones (in.dt is the step the integrator just made).
 		[[maybe_unused]] ViscousWorkRecord& last = st.lastViscous;
@@ -191,7 +207,7 @@ bool evaluatePair(const PairModels<Normal, Tangential, Damping>& m, const PairPa
 			out.cn            = m.normal.coefficient(sEff);
 			out.normalViscous = -out.cn * vn * in.n; // P3: −C^n v_r^n
 			viscous1 += out.normalViscous;
-			if constexpr (TrackEnergy) {
+			if constexpr (TrackEnergy && !ImplicitViscous) {
 				if (last.pending) out.dissipNormal = last.cn * last.vn * 0.5 * (last.vn + vn) * in.dt;
 				last.cn = out.cn;
 				last.vn = vn;
@@ -203,10 +219,11 @@ bool evaluatePair(const PairModels<Normal, Tangential, Damping>& m, const PairPa
 			out.shearViscous                = t.force1;
 			out.ct                          = t.ct;
 			out.cr                          = t.cr;
+			resistance                      = t.resistance;
 			viscous1 += t.force1;
-			out.torque1 += t.torque1;
-			out.torque2 += t.torque2;
-			if constexpr (TrackEnergy) {
+			viscousTorque1 = t.torque1;
+			viscousTorque2 = t.torque2;
+			if constexpr (TrackEnergy && !ImplicitViscous) {
 				if (last.pending) {
 					const TangentialWork w = tangentialWork(last.resistance, last.u, last.s, t.u, t.s);
 					out.dissipTangential   = w.sliding * in.dt;
@@ -217,10 +234,25 @@ bool evaluatePair(const PairModels<Normal, Tangential, Damping>& m, const PairPa
 				last.resistance = t.resistance;
 			}
 		}
-		if constexpr (TrackEnergy) last.pending = true;
-		out.force1 += viscous1;
-		if (wall1) out.torque1 += (anchor1 - in.b1.pos).cross(viscous1);
-		if (wall2) out.torque2 += (anchor2 - in.b2.pos).cross(-viscous1);
+		if constexpr (ImplicitViscous) {
+			// the forces above used the old velocities; the solver recomputes them from the new ones
+			ViscousBlock& b = out.block;
+			b.valid         = true;
+			b.n             = in.n;
+			b.cn            = out.cn;
+			b.resistance    = resistance;
+			b.a1            = wall1 ? 0.0 : in.b1.radius + lambda * S;
+			b.a2            = wall2 ? 0.0 : in.b2.radius + lambda * S;
+			if (wall1) b.r1 = anchor1 - in.b1.pos;
+			if (wall2) b.r2 = anchor2 - in.b2.pos;
+		} else {
+			if constexpr (TrackEnergy) last.pending = true;
+			out.force1 += viscous1;
+			out.torque1 += viscousTorque1;
+			out.torque2 += viscousTorque2;
+			if (wall1) out.torque1 += (anchor1 - in.b1.pos).cross(viscous1);
+			if (wall2) out.torque2 += (anchor2 - in.b2.pos).cross(-viscous1);
+		}
 	}
 	return true;
 }

@@ -1,0 +1,238 @@
+#include "ViscBridgeImplicitSolver.hpp"
+#include "ViscBridgePhys.hpp"
+#include "physics/ImplicitViscousSystem.hpp"
+#include "physics/Validation.hpp"
+#include <core/Scene.hpp>
+#include <pkg/dem/NewtonIntegrator.hpp>
+#include <pkg/dem/ScGeom.hpp>
+#include <algorithm>
+
+namespace yade {
+
+CREATE_LOGGER(ViscBridgeImplicitSolver);
+
+void ViscBridgeImplicitSolver::postLoad(ViscBridgeImplicitSolver&)
+{
+	static const std::string name = "ViscBridgeImplicitSolver";
+	try {
+		viscbridge::requireInRange(name, "tolerance", tolerance, 0, true, 1, true);
+		viscbridge::requireInRange(name, "maxIterations", maxIterations, 1, false, 1e9, false);
+		viscbridge::requireInRange(name, "refreshIterations", refreshIterations, 1, false, 1e9, false);
+		if (preconditioner != "cholesky" && preconditioner != "jacobi")
+			throw std::invalid_argument(name + ".preconditioner='" + preconditioner + "' is not known; allowed: 'cholesky', 'jacobi'.");
+	} catch (const std::invalid_argument&) {
+		tolerance         = lastValidTolerance;
+		maxIterations     = lastValidMaxIterations;
+		refreshIterations = lastValidRefresh;
+		preconditioner    = lastValidPreconditioner;
+		throw;
+	}
+	lastValidTolerance      = tolerance;
+	lastValidMaxIterations  = maxIterations;
+	lastValidRefresh        = refreshIterations;
+	lastValidPreconditioner = preconditioner;
+}
+
+namespace {
+	const NewtonIntegrator* findNewton(const Scene* scene)
+	{
+		for (const auto& e : scene->engines)
+			if (const auto* n = dynamic_cast<const NewtonIntegrator*>(e.get())) return n;
+		return nullptr;
+	}
+}
+
+void ViscBridgeImplicitSolver::action()
+{
+	namespace vb             = viscbridge;
+	const NewtonIntegrator* newton = findNewton(scene);
+	if (!newton) throw std::runtime_error("ViscBridgeImplicitSolver: no NewtonIntegrator in O.engines; the implicit velocities need it.");
+	if (newton->damping != 0)
+		throw std::invalid_argument(
+		        "ViscBridgeImplicitSolver: NewtonIntegrator.damping=" + vb::formatValue(newton->damping)
+		        + " is out of range with implicit viscous integration; allowed: 0 (numerical damping would move the velocities off the implicit solution).");
+	const Real     dt      = scene->dt;
+	const Vector3r gravity = newton->gravity;
+
+	// The bridges the law described this step, and the bodies they touch (ordered by id, so that
+	// the same bodies and bridges give the same system, and a factorisation can be reused).
+	scene->forces.sync();
+	std::vector<Interaction*>    described;
+	std::vector<ViscBridgePhys*> owners;
+	std::vector<char>            touched(scene->bodies->size(), 0);
+	for (const auto& I : *scene->interactions) {
+		if (!I->isReal()) continue;
+		auto* ph = dynamic_cast<ViscBridgePhys*>(I->phys.get());
+		if (!ph || !ph->bridge || !ph->implicitBlock.valid || ph->implicitBlockIter != scene->iter) continue;
+		const auto& m = ph->implicitBlock.resistance;
+		if (m.m12 != m.m21)
+			throw std::invalid_argument("ViscBridgeImplicitSolver: tangentialModel='washino' is not dissipative (physics.md §2) and cannot be "
+			                            "integrated implicitly; allowed with integration='implicit': 'none', 'slip', 'goldman'.");
+		described.push_back(I.get());
+		owners.push_back(ph);
+		touched[I->getId1()] = touched[I->getId2()] = 1;
+	}
+	std::vector<int>            index(scene->bodies->size(), -1);
+	std::vector<Body::id_t>     ids;
+	std::vector<vb::SystemBody> bodies;
+	std::vector<long>           pattern;
+	for (Body::id_t id = 0; id < static_cast<Body::id_t>(touched.size()); ++id) {
+		if (!touched[id]) continue;
+		const Body&    b  = *Body::byId(id, scene);
+		const State&   st = *b.state;
+		vb::SystemBody sb;
+		sb.mass          = st.mass;
+		sb.inertia       = st.inertia[0];
+		sb.vel           = st.vel;
+		sb.angVel        = st.angVel;
+		const bool moves = b.isDynamic() && st.mass > 0 && !b.isClumpMember();
+		long       freeBits = 0;
+		for (int d = 0; d < 6; ++d) {
+			sb.free[d] = moves && !(st.blockedDOFs & State::axisDOF(d % 3, d >= 3));
+			freeBits |= sb.free[d] ? (1L << d) : 0;
+		}
+		if (moves) {
+			sb.force  = scene->forces.getForce(id);
+			sb.torque = scene->forces.getTorque(id);
+			for (int d = 0; d < 3; ++d)
+				if (sb.free[d]) sb.force[d] += st.mass * gravity[d]; // Newton adds gravity to unblocked components
+		}
+		index[id] = static_cast<int>(bodies.size());
+		bodies.push_back(sb);
+		ids.push_back(id);
+		pattern.push_back(id * 64 + freeBits);
+	}
+	std::vector<vb::SystemBridge> system;
+	system.reserve(described.size());
+	for (size_t k = 0; k < described.size(); ++k) {
+		const Interaction* I = described[k];
+		vb::SystemBridge   c;
+		c.body1    = index[I->getId1()];
+		c.body2    = index[I->getId2()];
+		c.block    = owners[k]->implicitBlock;
+		c.shiftVel = scene->isPeriodic ? Vector3r(scene->cell->intrShiftVel(I->cellDist)) : Vector3r::Zero();
+		system.push_back(c);
+		pattern.push_back(-(static_cast<long>(std::min(c.body1, c.body2)) * (1L << 31) + std::max(c.body1, c.body2)) - 1);
+	}
+	std::sort(pattern.begin(), pattern.end());
+	bridges = static_cast<int>(system.size());
+	if (system.empty()) {
+		iterations = 0;
+		residual   = 0;
+		return;
+	}
+	const size_t nBodies = bodies.size();
+	const vb::ImplicitViscousSystem sys(std::move(bodies), std::move(system), dt);
+
+	// Warm start: the velocities last step's viscous forces would give now.
+	Eigen::VectorXd x = sys.currentVelocities();
+	if (warmStart) {
+		lastViscousForce.resize(scene->bodies->size(), Vector3r::Zero());
+		lastViscousTorque.resize(scene->bodies->size(), Vector3r::Zero());
+		for (size_t i = 0; i < nBodies; ++i) {
+			const vb::SystemBody& b = sys.bodies()[i];
+			if (b.mass > 0) x.segment<3>(6 * i) += dt * (b.force + lastViscousForce[ids[i]]) / b.mass;
+			if (b.inertia > 0) x.segment<3>(6 * i + 3) += dt * (b.torque + lastViscousTorque[ids[i]]) / b.inertia;
+		}
+	}
+	const vb::Preconditioner* pre = nullptr;
+	if (preconditioner == "cholesky") {
+		const bool samePattern = factorisation && pattern == factorisedPattern && factorisation->matches(sys.size());
+		if (!samePattern || lastIterationsSeen > refreshIterations || factorisedIter < 0) {
+			if (!factorisation) factorisation = shared_ptr<vb::LaggedCholesky>(new vb::LaggedCholesky);
+			if (factorisation->refresh(sys, samePattern)) {
+				factorisedPattern = pattern;
+				factorisedIter    = scene->iter;
+				++factorisations;
+			} else {
+				factorisation.reset(); // not positive definite: CG with block Jacobi, then the fallback
+				factorisedPattern.clear();
+			}
+		}
+		if (factorisation) pre = factorisation.get();
+	}
+	const vb::SolveReport rep = sys.solve(x, tolerance, maxIterations, pre);
+	lastIterationsSeen        = rep.iterations;
+	unknowns                  = 0;
+	for (size_t d = 0; d < sys.size(); ++d)
+		unknowns += sys.isFree(d) ? 1 : 0;
+	iterations = rep.iterations;
+	residual   = rep.residual;
+	totalIterations += rep.iterations;
+	++solves;
+	if (rep.direct) {
+		++fallbacks;
+		LOG_WARN("ViscBridgeImplicitSolver: CG did not reach tolerance " << tolerance << " in " << maxIterations << " iterations at step " << scene->iter
+		                                                                 << "; solved with the sparse Cholesky fallback (relative residual " << residual << ").");
+	}
+	if (!rep.converged || !x.allFinite())
+		throw std::runtime_error("ViscBridgeImplicitSolver: the implicit viscous system could not be solved at step " + std::to_string(scene->iter)
+		                         + " (relative residual " + vb::formatValue(rep.residual) + " after CG and the direct fallback).");
+
+	// The viscous forces that make NewtonIntegrator land on x: M(x − v)/Δt − F_other on free
+	// components; on prescribed ones (walls, fixed bodies, blocked DOFs) what the bridges exert.
+	const std::vector<vb::BridgeResistance> R = sys.bridgeForces(x);
+	std::vector<Vector3r>                   reactF(nBodies, Vector3r::Zero()), reactT(nBodies, Vector3r::Zero());
+	for (size_t k = 0; k < R.size(); ++k) {
+		const vb::SystemBridge& c = sys.bridges()[k];
+		reactF[c.body1] -= R[k].force1;
+		reactT[c.body1] -= R[k].torque1;
+		reactF[c.body2] -= R[k].force2;
+		reactT[c.body2] -= R[k].torque2;
+	}
+	if (warmStart) {
+		for (size_t i = 0; i < nBodies; ++i) {
+			lastViscousForce[ids[i]]  = reactF[i];
+			lastViscousTorque[ids[i]] = reactT[i];
+		}
+	}
+	for (size_t i = 0; i < nBodies; ++i) {
+		const vb::SystemBody& b = sys.bodies()[i];
+		Vector3r              f = reactF[i], t = reactT[i];
+		for (int d = 0; d < 3; ++d) {
+			if (b.free[d]) f[d] = b.mass * (x[6 * i + d] - b.vel[d]) / dt - b.force[d];
+			if (b.free[d + 3]) t[d] = b.inertia * (x[6 * i + 3 + d] - b.angVel[d]) / dt - b.torque[d];
+		}
+		scene->forces.addForce(ids[i], f);
+		scene->forces.addTorque(ids[i], t);
+	}
+
+	// What each bridge reports, and the work of its forces over the step, from the velocities the
+	// step started with and the implicit ones it ends with (physics.md §6).
+	Real dissipN = 0, dissipT = 0, dissipR = 0;
+	const Eigen::VectorXd v0 = sys.currentVelocities();
+	for (size_t k = 0; k < R.size(); ++k) {
+		const vb::SystemBridge& c  = sys.bridges()[k];
+		const vb::ViscousBlock& bl = c.block;
+		ViscBridgePhys&         ph = *owners[k];
+		auto kinematics = [&](const Eigen::VectorXd& v, Vector3r& u, Vector3r& s) {
+			const Vector3r v1 = v.segment<3>(6 * c.body1), w1 = v.segment<3>(6 * c.body1 + 3), v2 = v.segment<3>(6 * c.body2),
+			               w2 = v.segment<3>(6 * c.body2 + 3);
+			const Vector3r dv = (v1 + w1.cross(bl.r1)) - (v2 + w2.cross(bl.r2) + c.shiftVel);
+			const Real     vn = bl.n.dot(dv);
+			u                 = dv - vn * bl.n;
+			s                 = (bl.a1 * w1 + bl.a2 * w2).cross(bl.n);
+			return vn;
+		};
+		Vector3r   u1, s1, u0, s0;
+		const Real vn1 = kinematics(x, u1, s1), vn0 = kinematics(v0, u0, s0);
+		const Vector3r normal = -bl.cn * vn1 * bl.n;
+		ph.normalViscousForce = normal;
+		ph.shearViscousForce  = -R[k].force1 - normal;
+		ph.normalForce -= normal; // YADE sense (sustained by body 2)
+		ph.shearForce -= ph.shearViscousForce;
+		if (scene->trackEnergy) {
+			dissipN += bl.cn * vn1 * 0.5 * (vn1 + vn0) * dt;
+			const vb::TangentialWork w = vb::tangentialWork(bl.resistance, u1, s1, u0, s0);
+			dissipT += w.sliding * dt;
+			dissipR += w.rolling * dt;
+		}
+	}
+	if (scene->trackEnergy) {
+		scene->energy->add(dissipN, "viscDissipNormal", viscDissipNormalIx, false);
+		scene->energy->add(dissipT, "viscDissipTangential", viscDissipTangentialIx, false);
+		scene->energy->add(dissipR, "viscDissipRotational", viscDissipRotationalIx, false);
+	}
+}
+
+} // namespace yade

@@ -1,0 +1,69 @@
+// ViscBridgeImplicitSolver: backward Euler for the viscous bridge forces over the whole contact
+// network (physics.md §4, P15), between InteractionLoop and NewtonIntegrator.
+#pragma once
+#include <core/GlobalEngine.hpp>
+#include "physics/ImplicitViscousSystem.hpp"
+#include <lib/base/openmp-accu.hpp>
+
+namespace yade {
+
+class ViscBridgeImplicitSolver : public GlobalEngine {
+	std::vector<Vector3r> lastViscousForce, lastViscousTorque; // per body id, for the warm start
+	// The lagged factorisation and what it was computed for (bodies, bridges, free components).
+	shared_ptr<viscbridge::LaggedCholesky> factorisation;
+	std::vector<long>                      factorisedPattern;
+	long                                   factorisedIter = -1;
+	int                                    lastIterationsSeen = 0;
+	Real                  lastValidTolerance = 1e-9;
+	int                   lastValidMaxIterations = 500, lastValidRefresh = 8;
+	std::string           lastValidPreconditioner = "cholesky";
+	int                   viscDissipNormalIx = -1, viscDissipTangentialIx = -1, viscDissipRotationalIx = -1;
+
+public:
+	void action() override;
+	void postLoad(ViscBridgeImplicitSolver&);
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS(ViscBridgeImplicitSolver, GlobalEngine,
+		"Solves $(M+\\Delta t D)\\,v_{n+1/2} = M v_{n-1/2} + \\Delta t F_{other}$ for the translational "
+		"and rotational velocities of every body that has a liquid bridge (P15), where $D$ collects "
+		"the damping of every active bridge and every selected viscous effect (normal and tangential "
+		"models, walls and fixed or blocked degrees of freedom as boundary conditions) and "
+		"$F_{other}$ is every other force of the step (contacts, gravity, other laws). It then adds the "
+		"viscous forces and torques $M(v_{n+1/2}-v_{n-1/2})/\\Delta t - F_{other}$, so that "
+		":yref:`NewtonIntegrator` lands exactly on the implicit velocities. Backward Euler is "
+		"unconditionally stable for the viscous part: the time step is left to the contact stiffness "
+		"(:yref:`ViscBridgeTimeStepper` drops its viscous bound). First order in $\\Delta t$.\n\n"
+		"Needs :yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous.integration` = 'implicit' (the law then "
+		"describes its bridges' damping instead of applying the forces), a dissipative tangential "
+		"model ('none', 'slip' or 'goldman'; 'washino' is not dissipative and is refused), and "
+		":yref:`NewtonIntegrator.damping` = 0. Place it after the time stepper and before "
+		":yref:`NewtonIntegrator` (:yref:`viscbridge.engines(integration='implicit')` does).\n\n"
+		"The linear system is solved matrix-free by preconditioned conjugate gradients to the relative "
+		"residual `tolerance`, warm-started from the last step's viscous forces; the matrix products run "
+		"in parallel with OpenMP. The default preconditioner is a sparse Cholesky factorisation of the "
+		"system that is kept while the bridges stay the same and refreshed when CG needs more than "
+		"refreshIterations iterations (bridges below $S_{min}$ have constant coefficients, so it stays "
+		"nearly exact); 'jacobi' uses 6×6 blocks per body instead (no factorisation, but hundreds of "
+		"iterations when Δt·C/m is large). If CG does not converge within maxIterations, the "
+		"assembled system is factorised and solved directly instead, with a warning and `fallbacks` "
+		"counting it; if that fails too, the run stops with an error.",
+		((Real,tolerance,1e-9,Attr::triggerPostLoad,"Relative residual ‖r‖/‖b‖ at which CG stops, in (0, 1)."))
+		((int,maxIterations,500,Attr::triggerPostLoad,"CG iterations before the direct fallback, >= 1."))
+		((bool,warmStart,true,,"Start CG from the velocities the last step's viscous forces would give (else from the current velocities)."))
+		((string,preconditioner,"cholesky",Attr::triggerPostLoad,"'cholesky' (lagged sparse factorisation) or 'jacobi' (6×6 blocks per body)."))
+		((int,refreshIterations,8,Attr::triggerPostLoad,"With 'cholesky': refactorise when the last solve took more CG iterations than this, >= 1."))
+		((long,factorisations,0,Attr::readonly,"Cholesky factorisations done (preconditioner refreshes)."))
+		((int,iterations,0,Attr::readonly,"CG iterations of the last solve."))
+		((Real,residual,0,Attr::readonly,"Relative residual of the last solve."))
+		((long,totalIterations,0,Attr::readonly,"CG iterations of all solves."))
+		((long,solves,0,Attr::readonly,"Number of solves (steps with at least one bridge)."))
+		((long,fallbacks,0,Attr::readonly,"Solves that needed the direct (sparse Cholesky) fallback."))
+		((int,unknowns,0,Attr::readonly,"Free velocity components in the last solve."))
+		((int,bridges,0,Attr::readonly,"Bridges in the last solve."))
+	);
+	// clang-format on
+	DECLARE_LOGGER;
+};
+REGISTER_SERIALIZABLE(ViscBridgeImplicitSolver);
+
+} // namespace yade
