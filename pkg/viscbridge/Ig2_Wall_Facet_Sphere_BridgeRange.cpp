@@ -1,6 +1,7 @@
 #include "Ig2_Wall_Facet_Sphere_BridgeRange.hpp"
 #include <pkg/common/Sphere.hpp>
 #include <pkg/dem/ScGeom.hpp>
+#include "physics/Validation.hpp"
 
 namespace yade {
 
@@ -33,7 +34,22 @@ namespace {
 		g->radius2 = radius;
 		return true;
 	}
+
+	// detectionDistance >= 0; a rejected value leaves the previous one in place
+	template <class F> void validateDistance(F& f, const char* name)
+	{
+		try {
+			viscbridge::requireNonNegative(name, "detectionDistance", f.detectionDistance, " [m]; 0 means at contact only");
+		} catch (const std::invalid_argument&) {
+			f.detectionDistance = f.lastValidDistance;
+			throw;
+		}
+		f.lastValidDistance = f.detectionDistance;
+	}
 }
+
+void Ig2_Wall_Sphere_ViscBridgeScGeom::postLoad(Ig2_Wall_Sphere_ViscBridgeScGeom&) { validateDistance(*this, "Ig2_Wall_Sphere_ViscBridgeScGeom"); }
+void Ig2_Facet_Sphere_ViscBridgeScGeom::postLoad(Ig2_Facet_Sphere_ViscBridgeScGeom&) { validateDistance(*this, "Ig2_Facet_Sphere_ViscBridgeScGeom"); }
 
 bool Ig2_Wall_Sphere_ViscBridgeScGeom::go(
         const shared_ptr<Shape>&       cm1,

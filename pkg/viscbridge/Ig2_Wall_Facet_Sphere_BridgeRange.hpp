@@ -16,12 +16,14 @@ public:
 	        const Vector3r&          shift2,
 	        const bool&              force,
 	        const shared_ptr<Interaction>& c) override;
+	void postLoad(Ig2_Wall_Sphere_ViscBridgeScGeom&);
+	Real lastValidDistance = 0;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS(Ig2_Wall_Sphere_ViscBridgeScGeom, Ig2_Wall_Sphere_ScGeom,
 		"Same :yref:`ScGeom` as :yref:`Ig2_Wall_Sphere_ScGeom`, but a new interaction is also created "
 		"when the sphere's surface is within detectionDistance of the wall, so that a liquid bridge "
 		"can form before contact (:yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys.formationDistance`).",
-		((Real,detectionDistance,0,,"Largest surface gap at which a new interaction is created [m]; 0: at contact only, like the base class."))
+		((Real,detectionDistance,0,Attr::triggerPostLoad,"Largest surface gap at which a new interaction is created [m]; 0: at contact only, like the base class."))
 	);
 	// clang-format on
 	FUNCTOR2D(Wall, Sphere);
@@ -38,12 +40,14 @@ public:
 	        const Vector3r&          shift2,
 	        const bool&              force,
 	        const shared_ptr<Interaction>& c) override;
+	void postLoad(Ig2_Facet_Sphere_ViscBridgeScGeom&);
+	Real lastValidDistance = 0;
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS(Ig2_Facet_Sphere_ViscBridgeScGeom, Ig2_Facet_Sphere_ScGeom,
 		"Same :yref:`ScGeom` as :yref:`Ig2_Facet_Sphere_ScGeom`, but a new interaction is also created "
 		"when the sphere's surface is within detectionDistance of the facet, so that a liquid bridge "
 		"can form before contact (:yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys.formationDistance`).",
-		((Real,detectionDistance,0,,"Largest surface gap at which a new interaction is created [m]; 0: at contact only, like the base class."))
+		((Real,detectionDistance,0,Attr::triggerPostLoad,"Largest surface gap at which a new interaction is created [m]; 0: at contact only, like the base class."))
 	);
 	// clang-format on
 	FUNCTOR2D(Facet, Sphere);

@@ -56,9 +56,6 @@ void ViscBridgeGuard::validateScene()
 {
 	namespace vb = viscbridge;
 	if (!(scene->dt > 0) || !std::isfinite(scene->dt)) vb::rejectValue("O", "dt", scene->dt, "> 0 [s]");
-	vb::requireInRange("ViscBridgeGuard", "iterPeriod", iterPeriod, 1, false, 1e12, false);
-	vb::requireInRange("ViscBridgeGuard", "energyMargin", energyMargin, 1, false, 1e300, false);
-	vb::requireNonNegative("ViscBridgeGuard", "energyFloor", energyFloor, " [J]");
 
 	const InteractionLoop*                          loop = nullptr;
 	const Law2_ScGeom_ViscBridgePhys_HertzViscous* law  = nullptr;
@@ -101,6 +98,24 @@ void ViscBridgeGuard::validateScene()
 		if (newton && newton->damping != 0)
 			vb::rejectValue("NewtonIntegrator", "damping", newton->damping, "0 with implicit viscous integration");
 	}
+}
+
+void ViscBridgeGuard::postLoad(ViscBridgeGuard&)
+{
+	namespace vb = viscbridge;
+	try {
+		vb::requireInRange("ViscBridgeGuard", "iterPeriod", iterPeriod, 1, false, 1e12, false);
+		vb::requireInRange("ViscBridgeGuard", "energyMargin", energyMargin, 1, false, 1e300, false);
+		vb::requireNonNegative("ViscBridgeGuard", "energyFloor", energyFloor, " [J]");
+	} catch (const std::invalid_argument&) {
+		iterPeriod   = lastValidPeriod;
+		energyMargin = lastValidMargin;
+		energyFloor  = lastValidFloor;
+		throw;
+	}
+	lastValidPeriod = iterPeriod;
+	lastValidMargin = energyMargin;
+	lastValidFloor  = energyFloor;
 }
 
 void ViscBridgeGuard::resetReference()

@@ -13,12 +13,15 @@ class ViscBridgeGuard : public GlobalEngine {
 	void                  validateScene();
 	void                  resetReference();
 	std::string           diagnose(Body::id_t worst, const std::string& what);
+	int                   lastValidPeriod = 10;
+	Real                  lastValidMargin = 1.05, lastValidFloor = 0;
 
 public:
 	// Raises `message` at the start of the next step (adds a guard to O.engines if there is none):
 	// for errors found inside InteractionLoop's parallel loop, where nothing can be thrown.
 	static void raiseAtNextStep(Scene* scene, const std::string& message);
 	void        action() override;
+	void        postLoad(ViscBridgeGuard&);
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS(ViscBridgeGuard, GlobalEngine,
 		"Put first in O.engines (before :yref:`ForceResetter`; :yref:`viscbridge.engines()` does). "
@@ -35,9 +38,9 @@ public:
 		"bound; an explicit scheme above its stable step does. The message names the body, its most "
 		"demanding interaction with its coefficients, the time-step criterion that was violated, and the "
 		"Δt that would have been safe (:yref:`ViscBridgeTimeStepper` at its default safety).",
-		((int,iterPeriod,10,,"Steps between the NaN and energy checks, >= 1 (walls' work is accumulated every step)."))
-		((Real,energyMargin,1.05,,"Factor on the energy put in that the kinetic energy may reach, >= 1."))
-		((Real,energyFloor,0,,"Kinetic energy always accepted [J], >= 0 (for scenes with nothing put in)."))
+		((int,iterPeriod,10,Attr::triggerPostLoad,"Steps between the NaN and energy checks, >= 1 (walls' work is accumulated every step)."))
+		((Real,energyMargin,1.05,Attr::triggerPostLoad,"Factor on the energy put in that the kinetic energy may reach, >= 1."))
+		((Real,energyFloor,0,Attr::triggerPostLoad,"Kinetic energy always accepted [J], >= 0 (for scenes with nothing put in)."))
 		((long,checks,0,Attr::readonly,"Number of energy checks done."))
 		((Real,energyIn,0,Attr::readonly,"Energy put in since the reference, at the last check [J]."))
 		((Real,kineticEnergy,0,Attr::readonly,"Kinetic energy at the last check [J]."))

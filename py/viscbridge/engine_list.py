@@ -8,6 +8,8 @@ Spheres, walls, facets and boxes all get a bounding-volume functor, a geometry f
 Ip2/Law2, NewtonIntegrator with gravity and *no* numerical damping (the liquid is the damping), and
 — when the plugin provides them — ViscBridge's time stepper, implicit solver and guard.
 """
+import math
+
 import yade.wrapper as yw
 
 __all__ = ['engines', 'bridge_parameters']
@@ -65,6 +67,16 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
     label_prefix: prefix of the engines' labels ('collider', 'viscBridgeIp2', 'viscBridgeLaw',
         'newton', 'timeStepper', 'implicitSolver', 'guard').
     """
+    try:
+        gravity = tuple(float(g) for g in gravity)
+    except (TypeError, ValueError):
+        gravity = None
+    if gravity is None or len(gravity) != 3 or not all(math.isfinite(g) for g in gravity):
+        raise ValueError('engines(gravity=...): allowed: three finite numbers [m/s²]')
+    if integration not in ('explicit', 'implicit'):
+        raise ValueError("engines(integration=%r): allowed: 'explicit', 'implicit'" % (integration,))
+    if safety is not None and not (isinstance(safety, (int, float)) and 0 < safety <= 1):
+        raise ValueError('engines(safety=%r): allowed: (0, 1] or None' % (safety,))
     ip2_args, rest = bridge_parameters(**effects)
     if rest:
         raise ValueError('engines(): unknown parameter(s) %s; allowed: %s, gravity, integration, '

@@ -52,7 +52,19 @@ def normalize_case(case):
     out = dict(CASE_DEFAULTS)
     out.update(case)
     for k in ('n', 'steps', 'seed'):
+        if int(out[k]) != out[k]:
+            raise ValueError('scan case: %s=%r is out of range; allowed: an integer' % (k, out[k]))
         out[k] = int(out[k])
+    checks = (('n', 1, None), ('steps', 1, None), ('radius', 0, None), ('density', 0, None), ('young', 0, None),
+              ('tolerance', 0, None), ('perturbation', None, None), ('viscosity', None, None))
+    for k, above, _ in checks:
+        v = out[k]
+        if not isinstance(v, (int, float)) or not math.isfinite(v) or (above is not None and not v > above) or v < 0:
+            raise ValueError('scan case: %s=%r is out of range; allowed: %s' % (k, v, '> %g' % above if above is not None else '>= 0'))
+    if not 1 <= out['sizeRatio'] <= 5:
+        raise ValueError('scan case: sizeRatio=%r is out of range; allowed: [1, 5]' % (out['sizeRatio'],))
+    if out['integration'] not in ('explicit', 'implicit'):
+        raise ValueError("scan case: integration=%r is out of range; allowed: 'explicit', 'implicit'" % (out['integration'],))
     return out
 
 
@@ -299,6 +311,8 @@ JOB_SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'scan_job.
 def run_cases(cases, scan_dir, jobs=2, progress=True):
     """Run every case not yet in scan_dir/results.jsonl, `jobs` at a time, through yade-batch.
     Returns the list of all results (old and new)."""
+    if not (isinstance(jobs, int) and jobs >= 1):
+        raise ValueError('run_cases: jobs=%r is out of range; allowed: integer >= 1' % (jobs,))
     scan_dir = os.path.abspath(scan_dir)
     os.makedirs(scan_dir, exist_ok=True)
     results = ResultsFile(os.path.join(scan_dir, 'results.jsonl'))

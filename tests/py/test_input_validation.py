@@ -1,0 +1,161 @@
+"""Every user-settable parameter of every ViscBridge class and function: bad input is a Python
+exception naming the parameter, its value and the allowed range — on assignment, or at the latest
+at the first step.  (Ip2_FrictMat_FrictMat_ViscBridgePhys: test_attribute_validation.py.)"""
+import math
+
+import pytest
+from yade import O, utils
+import yade.wrapper as yw
+
+import viscbridge
+import viscbridge.scan as scan
+import viscbridge.scenes as scenes
+from wetpairs import R, material
+
+ATTRIBUTES = [
+    (yw.Law2_ScGeom_ViscBridgePhys_HertzViscous, 'integration', 'semi', "'explicit', 'implicit'"),
+    (yw.ViscBridgeTimeStepper, 'safety', 0.0, '(0, 1]'),
+    (yw.ViscBridgeTimeStepper, 'safety', 1.5, '(0, 1]'),
+    (yw.ViscBridgeTimeStepper, 'maxGrowth', 0.5, '[1,'),
+    (yw.ViscBridgeTimeStepper, 'rayleighFraction', 0.0, '(0, 1]'),
+    (yw.ViscBridgeTimeStepper, 'maxDt', -1e-6, '>= 0'),
+    (yw.ViscBridgeImplicitSolver, 'tolerance', 0.0, '(0, 1)'),
+    (yw.ViscBridgeImplicitSolver, 'tolerance', 1.0, '(0, 1)'),
+    (yw.ViscBridgeImplicitSolver, 'maxIterations', 0, '[1,'),
+    (yw.ViscBridgeImplicitSolver, 'refreshIterations', 0, '[1,'),
+    (yw.ViscBridgeImplicitSolver, 'preconditioner', 'ilu', "'cholesky', 'jacobi'"),
+    (yw.ViscBridgeGuard, 'iterPeriod', 0, '[1,'),
+    (yw.ViscBridgeGuard, 'energyMargin', 0.9, '[1,'),
+    (yw.ViscBridgeGuard, 'energyFloor', -1.0, '>= 0'),
+    (yw.Ig2_Wall_Sphere_ViscBridgeScGeom, 'detectionDistance', -1e-6, '>= 0'),
+    (yw.Ig2_Facet_Sphere_ViscBridgeScGeom, 'detectionDistance', -1e-6, '>= 0'),
+]
+
+
+@pytest.mark.parametrize('cls,name,value,allowed', ATTRIBUTES, ids=lambda x: getattr(x, '__name__', str(x)))
+def test_attribute_rejected_on_assignment(cls, name, value, allowed):
+    obj = cls()
+    before = getattr(obj, name)
+    with pytest.raises(ValueError) as err:
+        setattr(obj, name, value)
+    msg = str(err.value)
+    assert name in msg and allowed in msg and (str(value) in msg or '%g' % value in msg), msg
+    assert getattr(obj, name) == before  # the previous value stays
+
+
+@pytest.mark.parametrize('cls,name,value,allowed', ATTRIBUTES, ids=lambda x: getattr(x, '__name__', str(x)))
+def test_attribute_rejected_in_constructor(cls, name, value, allowed):
+    with pytest.raises(ValueError, match=name):
+        cls(**{name: value})
+
+
+# --- what can only be checked at the first step (ViscBridgeGuard, first engine) -------------------
+def small_scene(**kw):
+    mat = material()
+    O.bodies.append([utils.wall(0, axis=2, material=mat), utils.sphere((0, 0, 1.001 * R), R, material=mat)])
+    O.engines = viscbridge.engines(viscosity=1.0, **kw)
+    O.dt = 1e-7
+
+
+def test_non_positive_dt_at_first_step():
+    small_scene()
+    O.dt = 0.0  # YADE itself accepts it (a negative value would switch its time stepper on)
+    with pytest.raises(RuntimeError, match=r'O\.dt=0 is out of range; allowed: > 0'):
+        O.run(1, True)
+    assert O.iter == 0
+
+
+def test_body_without_frictmat_at_first_step():
+    small_scene()
+    O.bodies.append(utils.sphere((0, 0, 5 * R), R, material=yw.ElastMat(young=1e7, density=2500)))
+    with pytest.raises(RuntimeError, match='Body #2 has material ElastMat; allowed.*FrictMat'):
+        O.run(1, True)
+    assert O.iter == 0
+
+
+def test_law_without_its_ip2_at_first_step():
+    small_scene()
+    loop = next(e for e in O.engines if isinstance(e, yw.InteractionLoop))
+    idx = [type(e) for e in O.engines].index(yw.InteractionLoop)
+    engines = list(O.engines)
+    engines[idx] = yw.InteractionLoop(list(loop.geomDispatcher.functors), [yw.Ip2_FrictMat_FrictMat_MindlinPhys()],
+                                      list(loop.lawDispatcher.functors))
+    O.engines = engines
+    with pytest.raises(RuntimeError, match='needs Ip2_FrictMat_FrictMat_ViscBridgePhys'):
+        O.run(1, True)
+
+
+def test_ip2_without_its_law_at_first_step():
+    small_scene()
+    loop = next(e for e in O.engines if isinstance(e, yw.InteractionLoop))
+    idx = [type(e) for e in O.engines].index(yw.InteractionLoop)
+    engines = list(O.engines)
+    engines[idx] = yw.InteractionLoop(list(loop.geomDispatcher.functors), list(loop.physDispatcher.functors),
+                                      [yw.Law2_ScGeom_FrictPhys_CundallStrack()])
+    O.engines = engines
+    with pytest.raises(RuntimeError, match='needs Law2_ScGeom_ViscBridgePhys_HertzViscous'):
+        O.run(1, True)
+
+
+def test_damped_newton_with_implicit_at_first_step():
+    small_scene(integration='implicit')
+    next(e for e in O.engines if isinstance(e, yw.NewtonIntegrator)).damping = 0.2
+    with pytest.raises(RuntimeError, match='NewtonIntegrator.damping=0.2.*allowed: 0'):
+        O.run(1, True)
+
+
+def test_step_raises_value_error_directly():
+    """O.step() runs in the caller's thread: the exception keeps its type."""
+    small_scene()
+    O.dt = 0.0
+    with pytest.raises(ValueError, match='dt'):
+        O.step()
+
+
+# --- Python functions ----------------------------------------------------------------------------
+@pytest.mark.parametrize('kw,name', [
+    (dict(gravity=(0, 0)), 'gravity'), (dict(gravity=(0, 0, float('nan'))), 'gravity'),
+    (dict(integration='semi'), 'integration'), (dict(safety=0), 'safety'), (dict(safety=2), 'safety'),
+    (dict(viscosity=-1), 'viscosity'), (dict(sMinRel=0), 'sMinRel'), (dict(colour=1), 'colour'),
+    (dict(formationDistance=1e-5, minRadius=-1), 'minRadius'),
+])
+def test_engines_arguments(kw, name):
+    with pytest.raises(ValueError, match=name):
+        viscbridge.engines(**kw)
+
+
+@pytest.mark.parametrize('kw,name', [
+    (dict(n=0), 'n'), (dict(radius=-1e-3), 'radius'), (dict(density=0), 'density'), (dict(young=0), 'young'),
+    (dict(sizeRatio=6), 'sizeRatio'), (dict(poisson=0.5), 'poisson'), (dict(friction=-0.1), 'friction'),
+    (dict(dt=0), 'dt'), (dict(safety=0), 'safety'), (dict(initialSpeed=-1), 'initialSpeed'),
+    (dict(gravity=0), 'gravity'), (dict(viscosity=-1), 'viscosity'), (dict(bridgeVolume=-1), 'bridgeVolume'),
+    (dict(n=500, width=4e-3, height=2e-3), 'width or height'), (dict(normalModel='x'), 'normalModel'),
+])
+def test_settling_arguments(kw, name):
+    with pytest.raises(ValueError, match=name):
+        scenes.settling(**dict(dict(n=20), **kw))
+
+
+@pytest.mark.parametrize('kw,name', [
+    (dict(), 'exactly one'), (dict(duration=1e-3, steps=10), 'exactly one'), (dict(duration=-1.0), 'duration'),
+    (dict(steps=0), 'steps'), (dict(steps=1.5), 'steps'), (dict(steps=10, points=0), 'points'),
+])
+def test_settling_run_arguments(kw, name):
+    s = scenes.settling(n=20, viscosity=0.1)
+    with pytest.raises(ValueError, match=name):
+        s.run(**kw)
+
+
+@pytest.mark.parametrize('kw,name', [
+    (dict(n=0), 'n'), (dict(n=2.5), 'n'), (dict(steps=0), 'steps'), (dict(tolerance=0), 'tolerance'),
+    (dict(perturbation=-1), 'perturbation'), (dict(viscosity=-1), 'viscosity'), (dict(radius=0), 'radius'),
+    (dict(sizeRatio=0.5), 'sizeRatio'), (dict(integration='rk4'), 'integration'), (dict(colour=1), 'colour'),
+])
+def test_scan_case_fields(kw, name):
+    with pytest.raises(ValueError, match=name):
+        scan.normalize_case(kw)
+
+
+def test_scan_jobs(tmp_path):
+    with pytest.raises(ValueError, match='jobs'):
+        scan.run_cases([], str(tmp_path), jobs=0)
