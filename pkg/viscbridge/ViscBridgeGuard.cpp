@@ -10,6 +10,7 @@
 #include <core/Scene.hpp>
 #include <pkg/common/ElastMat.hpp>
 #include <pkg/dem/NewtonIntegrator.hpp>
+#include <pkg/dem/ScGeom.hpp>
 #include <cmath>
 #include <mutex>
 #include <sstream>
@@ -118,16 +119,31 @@ void ViscBridgeGuard::postLoad(ViscBridgeGuard&)
 	lastValidFloor  = energyFloor;
 }
 
-void ViscBridgeGuard::resetReference()
+Real ViscBridgeGuard::storedElasticEnergy() const
+{
+	Real e = 0;
+	for (const auto& I : *scene->interactions) {
+		if (!I->isReal()) continue;
+		const auto* ph = dynamic_cast<const ViscBridgePhys*>(I->phys.get());
+		const auto* g  = dynamic_cast<const ScGeom*>(I->geom.get());
+		if (!ph || !g || g->penetrationDepth <= 0) continue;
+		e += 0.4 * ph->kno * std::pow(g->penetrationDepth, 2.5) + (ph->ks > 0 ? 0.5 * ph->shearElastic.squaredNorm() / ph->ks : 0.0);
+	}
+	return e;
+}
+
+void ViscBridgeGuard::takeReference()
 {
 	startPos.assign(scene->bodies->size(), Vector3r::Zero());
-	startKinetic = 0;
+	startEnergy = storedElasticEnergy();
 	for (const auto& b : *scene->bodies) {
 		if (!b) continue;
 		startPos[b->getId()] = b->state->pos;
-		if (b->isDynamic()) startKinetic += 0.5 * b->state->mass * b->state->vel.squaredNorm() + 0.5 * b->state->angVel.dot(b->state->inertia.cwiseProduct(b->state->angVel));
+		if (b->isDynamic()) startEnergy += 0.5 * b->state->mass * b->state->vel.squaredNorm() + 0.5 * b->state->angVel.dot(b->state->inertia.cwiseProduct(b->state->angVel));
 	}
-	boundaryWork = 0;
+	boundaryWork     = 0;
+	referenceIter    = scene->iter;
+	referencePending = false;
 }
 
 std::string ViscBridgeGuard::diagnose(Body::id_t worst, const std::string& what)
@@ -186,19 +202,30 @@ void ViscBridgeGuard::action()
 	const long signature = static_cast<long>(scene->bodies->size()) * 1000003L + static_cast<long>(scene->engines.size());
 	if (signature != checkedSignature || scene->iter == 0) {
 		validateScene();
-		resetReference();
 		checkedSignature = signature;
+		referencePending = true;
+		return;
 	}
-	// Work of kinematic bodies (walls moved by the user) during the last step: their last forces
-	// are still in the force container (the guard runs before ForceResetter).
+	if (referencePending) {
+		takeReference();
+		return;
+	}
+	// Work of kinematic bodies (walls moved by the user) on the particles during the last step: the
+	// forces the particles exerted on them are still in the force container (the guard runs before
+	// ForceResetter), and the body gives the particles minus that power.
 	scene->forces.sync();
+	Real delivered = 0;
 	for (const auto& b : *scene->bodies) {
 		if (!b || b->isDynamic()) continue;
 		const Vector3r& v = b->state->vel;
 		const Vector3r& w = b->state->angVel;
 		if (v.squaredNorm() == 0 && w.squaredNorm() == 0) continue;
-		boundaryWork += (scene->forces.getForce(b->getId()).dot(v) + scene->forces.getTorque(b->getId()).dot(w)) * scene->dt;
+		delivered -= (scene->forces.getForce(b->getId()).dot(v) + scene->forces.getTorque(b->getId()).dot(w)) * scene->dt;
 	}
+	boundaryWork += delivered;
+	// with energy tracking, as "boundaryWork" beside NewtonIntegrator's gravWork (same sign: what
+	// enters the system is negative), so that O.energy.total() also closes with moving walls
+	if (scene->trackEnergy && delivered != 0) scene->energy->add(-delivered, "boundaryWork", boundaryWorkIx, false);
 	if (scene->iter % iterPeriod != 0) return;
 	++checks;
 	Real       kinetic = 0, gravityWork = 0;
@@ -223,12 +250,15 @@ void ViscBridgeGuard::action()
 		if (static_cast<size_t>(b->getId()) < startPos.size()) gravityWork += st.mass * gravity.dot(st.pos - startPos[b->getId()]);
 	}
 	kineticEnergy = kinetic;
-	energyIn      = startKinetic + std::max<Real>(0, gravityWork + boundaryWork);
+	energyIn      = startEnergy + std::max<Real>(0, gravityWork + boundaryWork);
 	std::string what;
 	if (notFinite >= 0) what = "body #" + std::to_string(notFinite) + " has a NaN or inf position or velocity";
-	else if (!std::isfinite(kinetic) || kinetic > energyMargin * energyIn + energyFloor)
-		what = "the kinetic energy " + fmt(kinetic) + " J exceeds the energy put in since step " + std::to_string(scene->iter) + "'s reference, "
-		        + fmt(energyIn) + " J (initial kinetic + work of gravity and moving bodies) × " + fmt(energyMargin);
+	else {
+		const Real mechanical = kinetic + storedElasticEnergy();
+		if (!std::isfinite(mechanical) || mechanical > energyMargin * energyIn + energyFloor)
+			what = "the kinetic + elastic energy " + fmt(mechanical) + " J exceeds what the scene had at step " + std::to_string(referenceIter)
+			        + " plus the work of gravity and moving bodies since, " + fmt(energyIn) + " J (× " + fmt(energyMargin) + " allowed)";
+	}
 	if (what.empty()) return;
 	lastError = diagnose(notFinite >= 0 ? notFinite : fastest, what);
 	LOG_ERROR(lastError);

@@ -7,11 +7,15 @@ namespace yade {
 
 class ViscBridgeGuard : public GlobalEngine {
 	std::vector<Vector3r> startPos;   // per body id, where the energy reference was taken
-	Real                  startKinetic = 0, boundaryWork = 0;
+	Real                  startEnergy = 0, boundaryWork = 0; // kinetic + elastic at the reference
+	long                  referenceIter = -1;
+	int                   boundaryWorkIx = -1;
+	bool                  referencePending = true; // taken one step after a change, once contacts exist
 	long                  checkedSignature = -1;
 	NetworkTimeStepBound  bound;
 	void                  validateScene();
-	void                  resetReference();
+	void                  takeReference();
+	Real                  storedElasticEnergy() const;
 	std::string           diagnose(Body::id_t worst, const std::string& what);
 	int                   lastValidPeriod = 10;
 	Real                  lastValidMargin = 1.05, lastValidFloor = 0;
@@ -32,10 +36,12 @@ public:
 		":yref:`NewtonIntegrator`; O.dt > 0. Problems raise an exception naming the parameter, its value "
 		"and what is allowed.\n\n"
 		"Every iterPeriod steps it stops the run (raising an exception, so ``O.run(n, True)`` reports it) "
-		"on a NaN or inf position or velocity, or when the kinetic energy exceeds what was put in since "
-		"the guard started: its initial kinetic energy, the work of gravity (from the positions) and of "
-		"moving walls and other kinematic bodies (accumulated every step). Physics cannot exceed that "
-		"bound; an explicit scheme above its stable step does. The message names the body, its most "
+		"on a NaN or inf position or velocity, or when the kinetic plus elastic energy exceeds what the "
+		"scene had at the reference (one step after the start or after bodies or engines changed) plus "
+		"what was put in since: the work of gravity (from the positions) and of moving walls and other "
+		"kinematic bodies (accumulated every step; with O.trackEnergy also added to O.energy as "
+		"``boundaryWork``, so that ``O.energy.total()`` closes with moving walls). Physics cannot exceed "
+		"that bound; an explicit scheme above its stable step does. The message names the body, its most "
 		"demanding interaction with its coefficients, the time-step criterion that was violated, and the "
 		"Δt that would have been safe (:yref:`ViscBridgeTimeStepper` at its default safety).",
 		((int,iterPeriod,10,Attr::triggerPostLoad,"Steps between the NaN and energy checks, >= 1 (walls' work is accumulated every step)."))

@@ -185,6 +185,11 @@ class _Trial:
         for k in _LIQUID_KEYS:
             setattr(ip2, k, self.case[k])
         loop.lawDispatcher.functors[0].integration = self.case['integration']
+        engines = [e for e in O.engines if not isinstance(e, yw.ViscBridgeImplicitSolver)]
+        if self.case['integration'] == 'implicit':  # the solver goes right before the integrator
+            at = next(k for k, e in enumerate(engines) if isinstance(e, yw.NewtonIntegrator))
+            engines.insert(at, yw.ViscBridgeImplicitSolver())
+        O.engines = engines
         rng = random.Random(self.case['seed'] + 1)
         v = self.case['perturbation']
         for b in O.bodies:

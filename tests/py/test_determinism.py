@@ -1,0 +1,55 @@
+"""The same run on 1 and 2 OpenMP threads (separate yade processes).
+
+Explicit: identical to ≤ 1e-12.  Implicit: positions identical to ≤ 1e-12; velocities differ at the
+solver's level — YADE sums contact forces per thread (rounding differences of ~1e-16), and the
+implicit system amplifies them by its condition number (Δt·C/m up to ~1e6), so the bound there is
+the CG tolerance (1e-9) times a safety factor of 100."""
+import json
+
+import pytest
+
+from yadeproc import run_yade
+
+SCRIPT = """
+import json, os, sys
+import viscbridge.scan as scan
+from yade import O
+case = scan.normalize_case(dict(n=200, viscosity=10.0, seed=8, integration=sys.argv[1]))
+trial = scan._Trial(case, sys.argv[4])  # the wetted bed: every contact a bridge
+trial.prepare()
+O.dt = float(sys.argv[2])
+O.run(int(sys.argv[3]), True)
+json.dump({'threads': O.numThreads, 'bridges': sum(1 for i in O.interactions if i.isReal and i.phys.bridge),
+           'state': [list(b.state.pos) + list(b.state.vel) + list(b.state.angVel) for b in O.bodies]},
+          open(os.environ['VISCBRIDGE_RESULT'], 'w'))
+"""
+
+
+@pytest.fixture(scope='module')
+def bed(tmp_path_factory):
+    import viscbridge.scan as scan
+    case = scan.normalize_case(dict(n=200, viscosity=10.0, seed=8))
+    return scan.dry_bed(case, str(tmp_path_factory.mktemp('beds')))
+
+
+def relative(a, b, columns):
+    worst = 0.0
+    for ra, rb in zip(a, b):
+        scale = max(max(abs(rb[c]) for c in columns), 1e-300)
+        worst = max(worst, max(abs(ra[c] - rb[c]) for c in columns) / scale)
+    return worst
+
+
+@pytest.mark.parametrize('integration,dt,steps,velocity_bound', [
+    ('explicit', 5e-9, 3000, 1e-12),
+    ('implicit', 5e-6, 1000, 1e-7),
+])
+def test_one_and_two_threads_agree(bed, integration, dt, steps, velocity_bound):
+    runs = [run_yade(SCRIPT, integration, dt, steps, bed, threads=t)[1] for t in (1, 2)]
+    assert [r['threads'] for r in runs] == [1, 2]
+    assert runs[0]['bridges'] == runs[1]['bridges'] > 50
+    a, b = runs[0]['state'], runs[1]['state']
+    pos, vel = relative(a, b, range(3)), relative(a, b, range(3, 9))
+    print('%s: positions %.2g, velocities %.2g (relative)' % (integration, pos, vel))
+    assert pos <= 1e-12
+    assert vel <= velocity_bound
