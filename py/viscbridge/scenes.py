@@ -197,7 +197,7 @@ def settling(n=300, radius=0.5e-3, sizeRatio=1.0, density=2500.0, young=1e7, poi
 
     n spheres of mean radius `radius` [m] (radii uniform in a range with max/min = sizeRatio, 1–5)
     are placed at random, without contact, in a column of square cross-section `width` (default
-    10 mean diameters) and height `height` (default: a loose packing of solid fraction 0.25), above a
+    10 mean diameters) and height `height` (default: a loose packing of solid fraction 0.2), above a
     floor.  The sides are walls, or periodic with periodic=True.  They settle under `gravity`
     [m/s²] through liquid of `viscosity` [Pa·s]; the other liquid and model parameters
     (sMin/sMinRel, bridgeVolume/bridgeVolumeRel, contactAngle, normalModel, tangentialModel,
@@ -234,7 +234,7 @@ def settling(n=300, radius=0.5e-3, sizeRatio=1.0, density=2500.0, young=1e7, poi
     r_min = radius * (1 - fuzz)
     width = width or 20 * radius
     mean_volume = 4.0 / 3.0 * math.pi * radius ** 3 * (1 + 3 * fuzz ** 2 / 3)
-    height = height or n * mean_volume / (0.25 * width * width)
+    height = height or max(n * mean_volume / (0.2 * width * width), 8 * radius)
     _positive('width', width, ' [m]')
     _positive('height', height, ' [m]')
     mat = O.materials.append(yw.FrictMat(young=young, poisson=poisson, density=density, frictionAngle=friction))

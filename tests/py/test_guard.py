@@ -1,0 +1,85 @@
+"""ViscBridgeGuard stops a run before a blow-up spreads, and says why."""
+import math
+import re
+
+import pytest
+from yade import O, utils
+import yade.wrapper as yw
+
+import viscbridge.scan as scan
+from wetpairs import R, head_on_pair
+
+
+def guard():
+    return next(e for e in O.engines if isinstance(e, yw.ViscBridgeGuard))
+
+
+@pytest.fixture(scope='module')
+def bed(tmp_path_factory):
+    return scan.dry_bed(scan.normalize_case(dict(n=120, seed=3)), str(tmp_path_factory.mktemp('beds')))
+
+
+def wet_bed(path, mu=10.0):
+    trial = scan._Trial(scan.normalize_case(dict(n=120, seed=3, viscosity=mu)), path)
+    trial.prepare()
+    O.engines = [e for e in O.engines if not isinstance(e, (yw.ViscBridgeTimeStepper, yw.ViscBridgeGuard))]
+    O.engines = [yw.ViscBridgeGuard(iterPeriod=5)] + O.engines
+
+
+def test_blow_up_is_stopped_with_a_diagnosis(bed):
+    wet_bed(bed)
+    O.run(1, True)
+    t_v = min(i.phys.mEff / i.phys.viscousStepCoefficient for i in O.interactions if i.isReal and i.phys.bridge)
+    O.dt = 6 * t_v  # three times the explicit pair limit of the stiffest bridge
+    start = O.iter
+    with pytest.raises(RuntimeError) as err:
+        O.run(500, True)
+    msg = str(err.value)
+    assert O.iter - start < 60, 'stopped within a few checks'
+    assert msg == guard().lastError
+    # names the body, its interaction with the coefficients, the criterion and a safe Δt
+    assert re.search(r'Body #\d+ at \(', msg)
+    assert re.search(r'interaction #\d+\+#\d+: gap S = [-0-9.e]+ m with a bridge, C_n = [0-9.e+]+ N·s/m', msg)
+    assert 'explicit viscous pair limit dt < 2 m*/(C_n + w_t C_t)' in msg
+    safe = float(re.search(r'A safe dt for the current contacts: ([0-9.e+-]+) s', msg).group(1))
+    assert 0 < safe < t_v
+    assert not O.running
+
+
+def test_nan_is_stopped_and_names_the_body(bed):
+    wet_bed(bed, mu=1.0)
+    O.dt = 1e-9
+    O.run(10, True)
+    victim = next(b.id for b in O.bodies if b.dynamic)
+    O.bodies[victim].state.vel = (float('nan'), 0, 0)
+    with pytest.raises(RuntimeError, match=r'body #%d has a NaN or inf position or velocity' % victim):
+        O.run(20, True)
+
+
+def test_a_stable_run_is_left_alone(bed):
+    wet_bed(bed, mu=1.0)
+    O.engines = O.engines + []  # the guard of wet_bed, with the stepper back in
+    loop_at = next(k for k, e in enumerate(O.engines) if isinstance(e, yw.InteractionLoop))
+    engines = list(O.engines)
+    engines.insert(loop_at + 1, yw.ViscBridgeTimeStepper())
+    O.engines = engines
+    O.run(300, True)
+    g = guard()
+    assert g.checks >= 50 and g.lastError == ''
+    assert 0 < g.kineticEnergy <= g.energyIn * g.energyMargin
+
+
+def test_moving_wall_work_closes_the_energy_balance():
+    """A wall pushed into a wet pair: what it does appears as boundaryWork in O.energy."""
+    head_on_pair(1e-3 * R, 0.0, viscosity=1.0, tangentialModel='slip')
+    O.engines = [yw.ViscBridgeGuard()] + O.engines
+    wall = O.bodies.append(utils.wall(3 * R + 0.002 * R, axis=0))  # just right of sphere 1
+    O.bodies[wall].state.vel = (-0.01, 0, 0)  # kinematic: pushes the pair to the left
+    O.bodies[0].state.blockedDOFs = 'xyzXYZ'  # sphere 0 held
+    O.trackEnergy = True
+    O.dt = 2e-9
+    O.run(50000, True)
+    assert O.interactions.has(1, wall) and O.interactions[1, wall].isReal
+    E = dict(O.energy.items())
+    assert E['boundaryWork'] < 0  # energy put in (YADE's sign, as gravWork)
+    assert abs(O.energy.total()) <= 0.01 * abs(E['boundaryWork']), E
