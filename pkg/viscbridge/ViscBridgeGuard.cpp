@@ -12,6 +12,7 @@
 #include <pkg/dem/NewtonIntegrator.hpp>
 #include <pkg/dem/ScGeom.hpp>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <sstream>
 
@@ -213,14 +214,19 @@ void ViscBridgeGuard::action()
 	// Work of kinematic bodies (walls moved by the user) on the particles during the last step: the
 	// forces the particles exerted on them are still in the force container (the guard runs before
 	// ForceResetter), and the body gives the particles minus that power.
+	// The displacement is taken from the positions (a velocity set for the next step, e.g. by a
+	// PyRunner shaking a wall, is not the one the body moved with), with the force of the step it
+	// moved in (still in the container: the guard runs before ForceResetter).
 	scene->forces.sync();
 	Real delivered = 0;
+	lastPos.resize(scene->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
 	for (const auto& b : *scene->bodies) {
 		if (!b || b->isDynamic()) continue;
-		const Vector3r& v = b->state->vel;
-		const Vector3r& w = b->state->angVel;
-		if (v.squaredNorm() == 0 && w.squaredNorm() == 0) continue;
-		delivered -= (scene->forces.getForce(b->getId()).dot(v) + scene->forces.getTorque(b->getId()).dot(w)) * scene->dt;
+		const Body::id_t id    = b->getId();
+		const Vector3r   moved = b->state->pos - lastPos[id];
+		lastPos[id]            = b->state->pos;
+		if (moved.allFinite()) delivered -= scene->forces.getForce(id).dot(moved); // NaN: first call
+		delivered -= scene->forces.getTorque(id).dot(b->state->angVel) * scene->dt;
 	}
 	boundaryWork += delivered;
 	// with energy tracking, as "boundaryWork" beside NewtonIntegrator's gravWork (same sign: what

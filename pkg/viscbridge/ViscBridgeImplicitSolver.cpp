@@ -42,8 +42,22 @@ namespace {
 	}
 }
 
+void ViscBridgeImplicitSolver::bookPendingWork()
+{
+	if (!pendingWork) return;
+	if (scene->trackEnergy) {
+		scene->energy->add(pendingNormal, "viscDissipNormal", viscDissipNormalIx, false);
+		if (pendingTangentialKeys) {
+			scene->energy->add(pendingTangential, "viscDissipTangential", viscDissipTangentialIx, false);
+			scene->energy->add(pendingRotational, "viscDissipRotational", viscDissipRotationalIx, false);
+		}
+	}
+	pendingWork = false;
+}
+
 void ViscBridgeImplicitSolver::action()
 {
+	bookPendingWork();
 	namespace vb             = viscbridge;
 	const NewtonIntegrator* newton = findNewton(scene);
 	if (!newton) throw std::runtime_error("ViscBridgeImplicitSolver: no NewtonIntegrator in O.engines; the implicit velocities need it.");
@@ -200,6 +214,7 @@ void ViscBridgeImplicitSolver::action()
 	// What each bridge reports, and the work of its forces over the step, from the velocities the
 	// step started with and the implicit ones it ends with (physics.md §6).
 	Real dissipN = 0, dissipT = 0, dissipR = 0;
+	bool tangentialEffect = false;
 	const Eigen::VectorXd v0 = sys.currentVelocities();
 	for (size_t k = 0; k < R.size(); ++k) {
 		const vb::SystemBridge& c  = sys.bridges()[k];
@@ -222,6 +237,7 @@ void ViscBridgeImplicitSolver::action()
 		ph.normalForce -= normal; // YADE sense (sustained by body 2)
 		ph.shearForce -= ph.shearViscousForce;
 		if (scene->trackEnergy) {
+			tangentialEffect = tangentialEffect || bl.resistance.m11 != 0 || bl.resistance.m22 != 0;
 			dissipN += bl.cn * vn1 * 0.5 * (vn1 + vn0) * dt;
 			const vb::TangentialWork w = vb::tangentialWork(bl.resistance, u1, s1, u0, s0);
 			dissipT += w.sliding * dt;
@@ -229,9 +245,11 @@ void ViscBridgeImplicitSolver::action()
 		}
 	}
 	if (scene->trackEnergy) {
-		scene->energy->add(dissipN, "viscDissipNormal", viscDissipNormalIx, false);
-		scene->energy->add(dissipT, "viscDissipTangential", viscDissipTangentialIx, false);
-		scene->energy->add(dissipR, "viscDissipRotational", viscDissipRotationalIx, false);
+		pendingNormal         = dissipN;
+		pendingTangential     = dissipT;
+		pendingRotational     = dissipR;
+		pendingTangentialKeys = tangentialEffect;
+		pendingWork           = true;
 	}
 }
 

@@ -18,6 +18,11 @@ class ViscBridgeImplicitSolver : public GlobalEngine {
 	int                   lastValidMaxIterations = 500, lastValidRefresh = 8;
 	std::string           lastValidPreconditioner = "cholesky";
 	int                   viscDissipNormalIx = -1, viscDissipTangentialIx = -1, viscDissipRotationalIx = -1;
+	// Work of the last solve's forces, booked at the next step, when NewtonIntegrator reports the
+	// kinetic energy of the velocities they produced (the same alignment as the explicit law).
+	Real pendingNormal = 0, pendingTangential = 0, pendingRotational = 0;
+	bool pendingWork = false, pendingTangentialKeys = false;
+	void bookPendingWork();
 
 public:
 	void action() override;
