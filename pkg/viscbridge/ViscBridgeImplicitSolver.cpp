@@ -6,6 +6,7 @@
 #include <pkg/dem/NewtonIntegrator.hpp>
 #include <pkg/dem/ScGeom.hpp>
 #include <algorithm>
+#include <chrono>
 
 namespace yade {
 
@@ -55,8 +56,14 @@ void ViscBridgeImplicitSolver::bookPendingWork()
 	pendingWork = false;
 }
 
+namespace {
+	using Clock = std::chrono::steady_clock;
+	Real seconds(Clock::time_point since) { return std::chrono::duration<Real>(Clock::now() - since).count(); }
+}
+
 void ViscBridgeImplicitSolver::action()
 {
+	const auto started = Clock::now();
 	bookPendingWork();
 	namespace vb             = viscbridge;
 	const NewtonIntegrator* newton = findNewton(scene);
@@ -137,6 +144,8 @@ void ViscBridgeImplicitSolver::action()
 	}
 	const size_t nBodies = bodies.size();
 	const vb::ImplicitViscousSystem sys(std::move(bodies), std::move(system), dt);
+	timeGather += seconds(started);
+	auto phase = Clock::now();
 
 	// Warm start: the velocities last step's viscous forces would give now.
 	Eigen::VectorXd x = sys.currentVelocities();
@@ -165,7 +174,11 @@ void ViscBridgeImplicitSolver::action()
 		}
 		if (factorisation) pre = factorisation.get();
 	}
+	timeFactorise += seconds(phase);
+	phase                     = Clock::now();
 	const vb::SolveReport rep = sys.solve(x, tolerance, maxIterations, pre);
+	timeSolve += seconds(phase);
+	phase = Clock::now();
 	lastIterationsSeen        = rep.iterations;
 	unknowns                  = 0;
 	for (size_t d = 0; d < sys.size(); ++d)
@@ -251,6 +264,7 @@ void ViscBridgeImplicitSolver::action()
 		pendingTangentialKeys = tangentialEffect;
 		pendingWork           = true;
 	}
+	timeApply += seconds(phase);
 }
 
 } // namespace yade

@@ -65,6 +65,10 @@ public:
 		((long,fallbacks,0,Attr::readonly,"Solves that needed the direct (sparse Cholesky) fallback."))
 		((int,unknowns,0,Attr::readonly,"Free velocity components in the last solve."))
 		((int,bridges,0,Attr::readonly,"Bridges in the last solve."))
+		((Real,timeGather,0,Attr::readonly|Attr::noSave,"Wall time spent collecting bodies and bridges, all solves [s]."))
+		((Real,timeFactorise,0,Attr::readonly|Attr::noSave,"Wall time spent assembling and factorising the preconditioner [s]."))
+		((Real,timeSolve,0,Attr::readonly|Attr::noSave,"Wall time spent in conjugate gradients (and fallbacks) [s]."))
+		((Real,timeApply,0,Attr::readonly|Attr::noSave,"Wall time spent applying the forces and accounting the work [s]."))
 	);
 	// clang-format on
 	DECLARE_LOGGER;
