@@ -1,0 +1,112 @@
+"""Shared set-up of the ViscBridge benchmarks: settled beds, engine lists, timing in the same process.
+
+Step times come from YADE's own per-engine timers (O.timingEnabled, nanoseconds, no Python in the
+loop); configurations are measured in interleaved rounds so that machine drift hits them alike.
+"""
+import json
+import os
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CACHE = os.path.join(HERE, '.cache')
+RESULTS = os.path.join(os.path.dirname(HERE), 'docs', 'perf')
+
+
+#: The configurations of the law-cost benchmarks, see engines().
+CONFIGS = ['yade_mindlin', 'vb_dry', 'vb_normal_adamsPerchard', 'vb_normal_pitois', 'vb_tangential_slip',
+           'vb_tangential_goldman', 'vb_tangential_washino', 'vb_contact_damping', 'vb_all', 'yade_implicit_lubrication']
+
+
+def bed(n, seed=5):
+    """A bed of n spheres (r = 0.5 mm) settled dry in a walled column (cached)."""
+    import viscbridge.scan as scan
+    return scan.dry_bed(scan.normalize_case(dict(n=n, seed=seed)), CACHE)
+
+
+def engines(config):
+    """The engine list of a named configuration; every one has the same collider, geometry
+    functors and integrator, only the physics and the law differ."""
+    import yade.wrapper as yw
+    loop_geoms = [yw.Ig2_Sphere_Sphere_ScGeom(), yw.Ig2_Wall_Sphere_ScGeom()]
+    ip2, law = None, None
+    vb = dict(
+        vb_dry=dict(viscosity=0.0),
+        vb_normal_adamsPerchard=dict(viscosity=1.0, normalModel='adamsPerchard', tangentialModel='none'),
+        vb_normal_pitois=dict(viscosity=1.0, normalModel='pitois', tangentialModel='none'),
+        vb_tangential_slip=dict(viscosity=1.0, normalModel='none', tangentialModel='slip'),
+        vb_tangential_goldman=dict(viscosity=1.0, normalModel='none', tangentialModel='goldman'),
+        vb_tangential_washino=dict(viscosity=1.0, normalModel='none', tangentialModel='washino'),
+        vb_contact_damping=dict(viscosity=0.0, en=0.5),
+        vb_all=dict(viscosity=1.0, normalModel='adamsPerchard', tangentialModel='slip', en=0.5),
+    )
+    if config == 'yade_mindlin':
+        ip2, law = yw.Ip2_FrictMat_FrictMat_MindlinPhys(), yw.Law2_ScGeom_MindlinPhys_Mindlin()
+    elif config == 'yade_implicit_lubrication':
+        # YADE's implicit lubrication: 6D sphere geometry, and interactions that exist before
+        # contact (it refuses to start from an overlap; see load())
+        loop_geoms[0] = yw.Ig2_Sphere_Sphere_ScGeom6D(interactionDetectionFactor=1.05)
+        ip2 = yw.Ip2_FrictMat_FrictMat_LubricationPhys(eta=1.0, eps=1e-3)
+        law = yw.Law2_ScGeom_ImplicitLubricationPhys(resolution=2)
+        return [yw.ForceResetter(), yw.InsertionSortCollider([yw.Bo1_Sphere_Aabb(aabbEnlargeFactor=1.05), yw.Bo1_Wall_Aabb()]),
+                yw.InteractionLoop(loop_geoms, [ip2], [law]), yw.NewtonIntegrator(gravity=(0, 0, -9.81), damping=0.0)]
+    elif config in vb:
+        ip2 = yw.Ip2_FrictMat_FrictMat_ViscBridgePhys(**vb[config])
+        law = yw.Law2_ScGeom_ViscBridgePhys_HertzViscous()
+    else:
+        raise ValueError('unknown configuration %r' % config)
+    return [yw.ForceResetter(), yw.InsertionSortCollider([yw.Bo1_Sphere_Aabb(), yw.Bo1_Wall_Aabb()]),
+            yw.InteractionLoop(loop_geoms, [ip2], [law]), yw.NewtonIntegrator(gravity=(0, 0, -9.81), damping=0.0)]
+
+
+def load(bed_path, config, dt=1e-9):
+    """The bed with the configuration's engines; every contact re-created by its physics."""
+    from yade import O
+    import yade.wrapper as yw
+    O.load(bed_path)
+    O.interactions.clear()
+    if config == 'yade_implicit_lubrication':
+        # Law2_ScGeom_ImplicitLubricationPhys cannot start from the bed's Hertz overlaps (~0.3 % of
+        # r): shrink the spheres by 1 % so that every contact starts as a small gap
+        for b in O.bodies:
+            if isinstance(b.shape, yw.Sphere):
+                b.shape.radius *= 0.99
+    O.engines = engines(config)
+    O.dt = dt
+    O.trackEnergy = False
+
+
+def engine_seconds_per_step(steps):
+    """Run `steps` steps and return the summed engine time per step [s] (YADE's timers)."""
+    from yade import O
+    O.timingEnabled = True
+    for e in O.engines:
+        e.execTime, e.execCount = 0, 0
+    O.run(steps, True)
+    total = sum(e.execTime for e in O.engines)
+    O.timingEnabled = False
+    return total * 1e-9 / steps
+
+
+def interleaved(configs, measure, rounds=7):
+    """measure(config) for every config, `rounds` times interleaved; the minimum per config.
+
+    On the shared virtual machines this runs on, timings of identical runs scatter by up to 50 %
+    upwards (other tenants); the minimum is the run least disturbed, and interleaving exposes every
+    configuration to the same drift.  bench/law_cost_instructions.py counts instructions instead."""
+    samples = {c: [] for c in configs}
+    for _ in range(rounds):
+        for c in configs:
+            samples[c].append(measure(c))
+    return {c: min(v) for c, v in samples.items()}, samples
+
+
+def write_rows(path, rows):
+    import csv
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    keys = list(rows[0])
+    with open(path, 'w', newline='') as fh:
+        w = csv.DictWriter(fh, fieldnames=keys)
+        w.writeheader()
+        w.writerows(rows)
+    return path

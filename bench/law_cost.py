@@ -1,0 +1,38 @@
+# The cost of the law itself: step time on the same settled packing for YADE's dry Hertz-Mindlin
+# law, ViscBridge's law with every viscous effect off, each effect alone, all effects, and YADE's
+# implicit lubrication law, as ratios to the dry YADE step measured in the same process.
+#
+#   ./yadew run bench/law_cost.py [N ...]        (default: 1000 and 4000 spheres; 1 thread)
+#   ./yadew run -j2 bench/law_cost.py 1000       (the same with 2 threads)
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))  # yade -x: __file__ is yade's own
+import common  # noqa: E402
+from yade import O  # noqa: E402
+
+CONFIGS = common.CONFIGS
+sizes = [int(a) for a in sys.argv[1:]] or [1000, 4000]
+rows = []
+for n in sizes:
+    path = common.bed(n)
+    steps = max(100, 400000 // n)
+
+    def measure(config):
+        common.load(path, config)
+        O.run(20, True)  # interactions and bridges in place
+        return common.engine_seconds_per_step(steps)
+
+    median, _ = common.interleaved(CONFIGS, measure)
+    common.load(path, 'vb_all')
+    O.run(20, True)
+    bridges = sum(1 for i in O.interactions if i.isReal and i.phys.bridge)
+    base = median['yade_mindlin']
+    print('\n%d spheres, %d bridges, %d threads, %d steps per sample, fastest of 7 interleaved rounds' % (n, bridges, O.numThreads, steps))
+    print('%-28s %12s %8s' % ('configuration', 'µs/step', 'ratio'))
+    for c in CONFIGS:
+        print('%-28s %12.1f %8.3f' % (c, median[c] * 1e6, median[c] / base))
+        rows.append(dict(spheres=n, threads=O.numThreads, configuration=c, microseconds_per_step=median[c] * 1e6,
+                         ratio_to_yade_mindlin=median[c] / base, contacts=bridges))
+out = common.write_rows(os.path.join(common.RESULTS, 'law_cost_%dthreads.csv' % O.numThreads), rows)
+print('\nwritten', out)
