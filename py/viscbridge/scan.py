@@ -327,7 +327,9 @@ def run_cases(cases, scan_dir, jobs=2, progress=True):
         print('scan: %d cases, %d already done, %d to run' % (len(cases), len(cases) - len(todo), len(todo)), file=sys.stderr)
     if todo:
         table = write_table(todo, os.path.join(scan_dir, 'cases.table'), scan_dir)
-        cmd = ['yade-batch', '--job-threads=1', '-j', str(jobs), table, JOB_SCRIPT]
+        # per-case logs beside the results (yade-batch's default puts them beside the job script,
+        # inside the installed package); relative, since yade-batch runs in scan_dir
+        cmd = ['yade-batch', '--job-threads=1', '-j', str(jobs), '--log', 'case-@.log', table, JOB_SCRIPT]
         with open(os.path.join(scan_dir, 'yade-batch.log'), 'a') as log:
             proc = subprocess.Popen(cmd, cwd=scan_dir, stdout=log, stderr=subprocess.STDOUT)
             bar = _progress(len(todo)) if progress else None

@@ -2,6 +2,7 @@
 import json
 import math
 import os
+import pathlib
 import signal
 import subprocess
 import sys
@@ -85,6 +86,9 @@ def test_yade_batch_runs_the_table_and_results_are_collected(tmp_path):
     assert len(table) == 3 and table[0].split()[0] == 'description'
     collected = scan.collect(str(tmp_path))
     assert len(collected) == 2 and os.path.exists(tmp_path / 'results.csv')
+    # each case's log is kept with the scan, none is written into the package
+    assert len(list(tmp_path.glob('case-*.log'))) == 2
+    assert not list(pathlib.Path(scan.JOB_SCRIPT).parent.glob('*.log'))
 
 
 def test_a_killed_scan_resumes_without_repeating_finished_cases(tmp_path):
