@@ -18,10 +18,6 @@ class ViscBridgeImplicitSolver : public GlobalEngine {
 	int                   lastValidMaxIterations = 500, lastValidRefresh = 8;
 	std::string           lastValidPreconditioner = "cholesky";
 	int                   viscDissipNormalIx = -1, viscDissipTangentialIx = -1, viscDissipRotationalIx = -1;
-	// Work of the last solve's forces, booked at the next step, when NewtonIntegrator reports the
-	// kinetic energy of the velocities they produced (the same alignment as the explicit law).
-	Real pendingNormal = 0, pendingTangential = 0, pendingRotational = 0;
-	bool pendingWork = false, pendingTangentialKeys = false;
 	void bookPendingWork();
 
 public:
@@ -69,6 +65,14 @@ public:
 		((Real,timeFactorise,0,Attr::readonly|Attr::noSave,"Wall time spent assembling and factorising the preconditioner [s]."))
 		((Real,timeSolve,0,Attr::readonly|Attr::noSave,"Wall time spent in conjugate gradients (and fallbacks) [s]."))
 		((Real,timeApply,0,Attr::readonly|Attr::noSave,"Wall time spent applying the forces and accounting the work [s]."))
+		// Work of the last solve's forces, booked at the next step, when NewtonIntegrator reports the
+		// kinetic energy of the velocities they produced (the same alignment as the explicit law).
+		// Saved with the scene, so that a run continued after O.save/O.load books the same energy.
+		((Real,pendingNormal,0,Attr::hidden,"Normal viscous work of the last solve, not yet booked."))
+		((Real,pendingTangential,0,Attr::hidden,"Tangential viscous work of the last solve, not yet booked."))
+		((Real,pendingRotational,0,Attr::hidden,"Rotational viscous work of the last solve, not yet booked."))
+		((bool,pendingWork,false,Attr::hidden,"Whether pending* hold work not yet booked."))
+		((bool,pendingTangentialKeys,false,Attr::hidden,"Whether the tangential and rotational keys are booked."))
 	);
 	// clang-format on
 	DECLARE_LOGGER;

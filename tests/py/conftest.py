@@ -1,4 +1,6 @@
 """pytest set-up shared by every YADE test: YADE runs in-process, one fresh scene per test."""
+import re
+
 import pytest
 
 import yade  # noqa: F401  (boots YADE with the plugin overlay on YADE_PREFIX)
@@ -13,3 +15,24 @@ def fresh_scene():
     O.pause()
     O.wait()
     O.reset()
+
+
+@pytest.fixture
+def run_error(capfd):
+    """run_error(n): O.run(n, True) must stop on an exception; returns its message.
+
+    YADE's O.wait() (py/wrapper/yadeWrapper.cpp) returns without re-raising when the worker thread
+    has already stopped by the time it first polls, which happens when the very first step fails
+    quickly. The exception then only reaches the log ("Exception occured: ..."), so it is read from
+    there; either way the run must have stopped on it."""
+    def run(steps):
+        capfd.readouterr()  # forget what earlier steps printed
+        try:
+            O.run(steps, True)
+        except RuntimeError as error:
+            return str(error)
+        logged = re.search(r'Exception occured: *\n(.*)', capfd.readouterr().err, re.S)
+        assert logged, 'O.run(%d) ended without an error' % steps
+        assert not O.running
+        return logged.group(1).strip()
+    return run

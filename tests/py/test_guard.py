@@ -26,15 +26,13 @@ def wet_bed(path, mu=10.0):
     O.engines = [yw.ViscBridgeGuard(iterPeriod=5)] + O.engines
 
 
-def test_blow_up_is_stopped_with_a_diagnosis(bed):
+def test_blow_up_is_stopped_with_a_diagnosis(bed, run_error):
     wet_bed(bed)
     O.run(1, True)
     t_v = min(i.phys.mEff / i.phys.viscousStepCoefficient for i in O.interactions if i.isReal and i.phys.bridge)
     O.dt = 6 * t_v  # three times the explicit pair limit of the stiffest bridge
     start = O.iter
-    with pytest.raises(RuntimeError) as err:
-        O.run(500, True)
-    msg = str(err.value)
+    msg = run_error(500)
     assert O.iter - start < 60, 'stopped within a few checks'
     assert msg == guard().lastError
     # names the body, its interaction with the coefficients, the criterion and a safe Δt
@@ -46,14 +44,13 @@ def test_blow_up_is_stopped_with_a_diagnosis(bed):
     assert not O.running
 
 
-def test_nan_is_stopped_and_names_the_body(bed):
+def test_nan_is_stopped_and_names_the_body(bed, run_error):
     wet_bed(bed, mu=1.0)
     O.dt = 1e-9
     O.run(10, True)
     victim = next(b.id for b in O.bodies if b.dynamic)
     O.bodies[victim].state.vel = (float('nan'), 0, 0)
-    with pytest.raises(RuntimeError, match=r'body #%d has a NaN or inf position or velocity' % victim):
-        O.run(20, True)
+    assert re.search(r'body #%d has a NaN or inf position or velocity' % victim, run_error(20))
 
 
 def test_a_stable_run_is_left_alone(bed):
