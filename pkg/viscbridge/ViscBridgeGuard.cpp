@@ -220,9 +220,14 @@ void ViscBridgeGuard::action()
 	scene->forces.sync();
 	Real delivered = 0;
 	lastPos.resize(scene->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
-	for (const auto& b : *scene->bodies) {
+	if (kinematic.empty() || scene->iter % iterPeriod == 0) { // the bodies the user moves: refreshed with each check
+		kinematic.clear();
+		for (const auto& b : *scene->bodies)
+			if (b && !b->isDynamic()) kinematic.push_back(b->getId());
+	}
+	for (Body::id_t id : kinematic) {
+		const shared_ptr<Body>& b = Body::byId(id, scene);
 		if (!b || b->isDynamic()) continue;
-		const Body::id_t id    = b->getId();
 		const Vector3r   moved = b->state->pos - lastPos[id];
 		lastPos[id]            = b->state->pos;
 		if (moved.allFinite()) delivered -= scene->forces.getForce(id).dot(moved); // NaN: first call

@@ -8,6 +8,7 @@ namespace yade {
 class ViscBridgeGuard : public GlobalEngine {
 	std::vector<Vector3r> startPos;   // per body id, where the energy reference was taken
 	std::vector<Vector3r> lastPos;    // per body id, at the previous call (kinematic bodies' work)
+	std::vector<Body::id_t> kinematic; // bodies that do not move under forces (walls, fixed ones)
 	Real                  startEnergy = 0, boundaryWork = 0; // kinetic + elastic at the reference
 	long                  referenceIter = -1;
 	int                   boundaryWorkIx = -1;

@@ -8,8 +8,12 @@ namespace yade {
 struct NetworkTimeStepBound {
 	Real       collision = 0, viscous = 0, combined = 0; // [s], inf when nothing bounds them
 	Body::id_t criticalBody = -1;
-	// per-body rates of P14 (index: body id), kept to be reused between calls
-	std::vector<Real> damping, stiffness, contactDamping;
+	// per-thread, per-body rates of P14, kept to be reused between calls
+	std::vector<Real> rates;
+	// the smallest rayleighFraction × T_R over the spheres, cached while the bodies stay the same
+	Real       rayleigh = 0, rayleighFractionUsed = -1;
+	Body::id_t rayleighBody = -1;
+	long       rayleighSignature = -1;
 	void              evaluate(Scene* scene, bool viscousImplicit, Real rayleighFraction);
 };
 bool viscousIntegrationIsImplicit(const Scene* scene);
