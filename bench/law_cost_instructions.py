@@ -40,4 +40,13 @@ with tempfile.TemporaryDirectory() as tmp:
         print('%-28s %14d instructions  %.3f' % (config, counts[config], counts[config] / counts['yade_mindlin']), flush=True)
         rows.append(dict(spheres=n, configuration=config, instructions=counts[config],
                          ratio_to_yade_mindlin=counts[config] / counts['yade_mindlin']))
+    # where the interaction loop spends its instructions with every effect on, and in YADE's law
+    for config in ('vb_all', 'yade_mindlin'):
+        annotated = subprocess.run(['callgrind_annotate', '--inclusive=no', os.path.join(tmp, config + '.cg')],
+                                   capture_output=True, text=True, check=True).stdout
+        path = os.path.join(common.RESULTS, 'profile_interaction_loop_%s.txt' % config)
+        with open(path, 'w') as fh:
+            fh.write('# callgrind_annotate (self cost) of InteractionLoop::action(), %d spheres, 40 steps, %s\n' % (n, config))
+            fh.write('\n'.join(annotated.splitlines()[:60]) + '\n')
+        print('written', path)
 print('written', common.write_rows(os.path.join(common.RESULTS, 'law_cost_instructions.csv'), rows))

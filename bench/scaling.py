@@ -54,7 +54,7 @@ else:
     rows = []
     for n_side in (10, 20, 30, 47):
         steps = max(20, 2000000 // n_side ** 3)
-        for config, threads in (('viscbridge', 1), ('viscbridge', 2), ('yade_mindlin', 1)):
+        for config, threads in (('viscbridge', 1), ('viscbridge', 2), ('yade_mindlin', 1), ('yade_mindlin', 2)):
             with tempfile.TemporaryDirectory() as tmp:
                 out = os.path.join(tmp, 'r.json')
                 subprocess.run(['yade', '-n', '-j%d' % threads, '-x', os.path.join(HERE, 'scaling.py'), '--worker',

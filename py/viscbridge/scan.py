@@ -146,16 +146,20 @@ def _bed_path(case, cache_dir):
 
 def dry_bed(case, cache_dir):
     """Path of the case's bed settled dry (built and cached on first use)."""
+    case = normalize_case(case)
+    return settled_bed(_bed_path(case, cache_dir), **{k: case[k] for k in _BED_KEYS})
+
+
+def settled_bed(path, **settling_args):
+    """Save at `path` (unless it exists) a bed of :func:`viscbridge.scenes.settling` (with
+    settling_args) settled dry, and return the path."""
     from yade import O
     from . import scenes
-    case = normalize_case(case)
-    path = _bed_path(case, cache_dir)
     if os.path.exists(path):
         return path
-    os.makedirs(cache_dir, exist_ok=True)
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     # dry, with strong contact damping (en = 0.2) so that the column comes to rest quickly
-    scene = scenes.settling(viscosity=0.0, en=0.2, dt=None, trackEnergy=False, guard=False,
-                            **{k: case[k] for k in _BED_KEYS})
+    scene = scenes.settling(viscosity=0.0, en=0.2, dt=None, trackEnergy=False, guard=False, **settling_args)
     # settle: the column falls in ~0.05 s; continue until the motion has died down
     scene.run(duration=0.08, stop_when_unstable=False)
     for _ in range(10):

@@ -1,0 +1,121 @@
+# A 0.1 s settling run: the implicit scheme at the collision (Hertz) step against the explicit
+# scheme at its critical step, and YADE's own Law2_ScGeom_ImplicitLubricationPhys on the same cloud.
+#
+#   ./yadew run bench/settling_cost.py [MU ...]      (default: 1 100 1000 Pa·s; ~5 min)
+#
+# The scene is viscbridge.scenes.settling(n=300): a loose cloud (solid fraction 0.2) falling onto
+# the floor of a walled column, bridges forming at contact, Adams–Perchard + slip, S_min = 1e-3 r̄.
+#   implicit   ViscBridgeTimeStepper (safety 0.5; governed by the collisions), run for 0.1 s.
+#   explicit   its critical step is the one measured on the settled bed of the study
+#              (docs/data/critical_dt_explicit.csv, same particles and liquid): 0.1 s at that step
+#              is too long to run at 100 and 1000 Pa·s, so its wall time is projected from the
+#              measured cost of 400 explicit steps on the settled state the implicit run reached.
+#   YADE       Law2_ScGeom_ImplicitLubricationPhys(resolution=2), Ip2_FrictMat_FrictMat_
+#              LubricationPhys(eta=μ, eps=1e-3), at the implicit run's time step, for 0.1 s.
+# Wall time is measured around the whole run (time.perf_counter) and as the engines' own time.
+import csv
+import math
+import os
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))  # yade -x: __file__ is yade's own
+import common  # noqa: E402
+from yade import O  # noqa: E402
+import yade.wrapper as yw  # noqa: E402
+
+import viscbridge  # noqa: E402
+import viscbridge.scenes as scenes  # noqa: E402
+
+DURATION = 0.1
+N = 300
+R = 0.5e-3
+viscosities = [float(a) for a in sys.argv[1:]] or [1.0, 100.0, 1000.0]
+STUDY = os.path.join(os.path.dirname(common.HERE), 'docs', 'data', 'critical_dt_explicit.csv')
+
+
+def critical_dt(mu):
+    """The measured explicit critical Δt of the study's default case (300 spheres, r = 0.5 mm)."""
+    with open(STUDY) as fh:
+        for r in csv.DictReader(fh):
+            if (float(r['viscosity']) == mu and float(r['sMinRel']) == 1e-3 and float(r['radius']) == R
+                    and float(r['sizeRatio']) == 1.0 and r['normalModel'] == 'adamsPerchard'):
+                return float(r['dt_critical'])
+    raise LookupError('no measured critical dt for viscosity %g in %s' % (mu, STUDY))
+
+
+def engine_seconds():
+    return sum(e.execTime for e in O.engines) * 1e-9
+
+
+def timed_run(duration):
+    """Run `duration` seconds of simulated time; (wall seconds, engine seconds, steps)."""
+    O.timingEnabled = True
+    for e in O.engines:
+        e.execTime, e.execCount = 0, 0
+    start, iter0 = time.perf_counter(), O.iter
+    O.stopAtTime = O.time + duration
+    O.run(-1, True)
+    O.stopAtTime = 0
+    wall = time.perf_counter() - start
+    O.timingEnabled = False
+    return wall, engine_seconds(), O.iter - iter0
+
+
+def state_summary(scene):
+    ke, released = scene.kinetic_energy(), scene.released_energy()
+    return ke, released, scenes.instability(ke, released, scene.initial_kinetic)
+
+
+rows = []
+for mu in viscosities:
+    # --- ours, implicit at the collision step ---------------------------------------------------
+    scene = scenes.settling(n=N, radius=R, viscosity=mu, integration='implicit', trackEnergy=False)
+    wall, engines_s, steps = timed_run(DURATION)
+    solver = next(e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver))
+    ke, released, why = state_summary(scene)
+    dt_implicit = O.dt
+    cg = solver.totalIterations / max(solver.solves, 1)
+    rows.append(dict(viscosity=mu, run='viscbridge implicit', dt=dt_implicit, steps=steps, wall_seconds=wall,
+                     engine_seconds=engines_s, projected=False, cg_iterations_per_step=cg,
+                     factorisations=solver.factorisations, fallbacks=solver.fallbacks, bridges=scene.bridges(),
+                     kinetic_over_released=ke / released, unstable=why or ''))
+    # --- ours, explicit at its critical step: cost per step on the settled state, projected -------
+    O.engines = viscbridge.engines(viscosity=mu, integration='explicit', timeStepper=False, guard=False, minRadius=R)
+    dt_crit = critical_dt(mu)
+    O.dt = 0.5 * dt_crit
+    O.run(20, True)
+    per_step = common.engine_seconds_per_step(400)
+    steps_explicit = int(math.ceil(DURATION / dt_crit))
+    rows.append(dict(viscosity=mu, run='viscbridge explicit', dt=dt_crit, steps=steps_explicit,
+                     wall_seconds=per_step * steps_explicit, engine_seconds=per_step * steps_explicit, projected=True,
+                     cg_iterations_per_step=None, factorisations=None, fallbacks=None, bridges=scene.bridges(),
+                     kinetic_over_released=None, unstable=''))
+    # --- YADE's implicit lubrication on the same cloud, same step ---------------------------------
+    scene = scenes.settling(n=N, radius=R, viscosity=mu, trackEnergy=False, dt=dt_implicit)
+    O.engines = [yw.ForceResetter(),
+                 yw.InsertionSortCollider([yw.Bo1_Sphere_Aabb(aabbEnlargeFactor=1.05), yw.Bo1_Wall_Aabb()]),
+                 yw.InteractionLoop([yw.Ig2_Sphere_Sphere_ScGeom6D(interactionDetectionFactor=1.05), yw.Ig2_Wall_Sphere_ScGeom()],
+                                    [yw.Ip2_FrictMat_FrictMat_LubricationPhys(eta=mu, eps=1e-3)],
+                                    [yw.Law2_ScGeom_ImplicitLubricationPhys(resolution=2)]),
+                 yw.NewtonIntegrator(gravity=(0, 0, -9.81), damping=0.0)]
+    wall_y, engines_y, steps_y = timed_run(DURATION)
+    ke, released, why = state_summary(scene)
+    rows.append(dict(viscosity=mu, run='yade ImplicitLubrication', dt=O.dt, steps=steps_y, wall_seconds=wall_y,
+                     engine_seconds=engines_y, projected=False, cg_iterations_per_step=None, factorisations=None,
+                     fallbacks=None, bridges=sum(1 for i in O.interactions if i.isReal),
+                     kinetic_over_released=ke / released if released > 0 else None, unstable=why or ''))
+    for r in rows[-3:]:
+        print('μ=%-6g %-26s dt %.3e s %11d steps %10.1f s%s  %s' % (
+            mu, r['run'], r['dt'], r['steps'], r['wall_seconds'], ' (projected)' if r['projected'] else '',
+            ('CG %.2f it/step' % r['cg_iterations_per_step']) if r['cg_iterations_per_step'] is not None else r['unstable']))
+    sys.stdout.flush()
+
+out = common.write_rows(os.path.join(common.RESULTS, 'settling_cost_%dthreads.csv' % O.numThreads), rows)
+print('\n0.1 s settling of %d spheres, %d thread(s)' % (N, O.numThreads))
+print('%8s %-26s %11s %12s %12s %9s' % ('μ', 'run', 'dt [s]', 'steps', 'wall [s]', 'CG/step'))
+for r in rows:
+    print('%8g %-26s %11.3e %12d %12.1f%s %9s' % (r['viscosity'], r['run'], r['dt'], r['steps'], r['wall_seconds'],
+                                                   '*' if r['projected'] else ' ',
+                                                   '%.2f' % r['cg_iterations_per_step'] if r['cg_iterations_per_step'] is not None else '-'))
+print('(* projected from the cost of 400 steps)\nwritten', out)
