@@ -32,6 +32,7 @@ namespace {
 		return msg;
 	}
 	std::string fmt(Real v) { return viscbridge::formatValue(v); }
+	Real        bodyKineticEnergy(const State& st) { return 0.5 * st.mass * st.vel.squaredNorm() + 0.5 * st.angVel.dot(st.inertia.cwiseProduct(st.angVel)); }
 	std::string vec(const Vector3r& v)
 	{
 		std::ostringstream o;
@@ -122,13 +123,19 @@ void ViscBridgeGuard::postLoad(ViscBridgeGuard&)
 
 Real ViscBridgeGuard::storedElasticEnergy() const
 {
-	Real e = 0;
-	for (const auto& I : *scene->interactions) {
-		if (!I->isReal()) continue;
-		const auto* ph = dynamic_cast<const ViscBridgePhys*>(I->phys.get());
-		const auto* g  = dynamic_cast<const ScGeom*>(I->geom.get());
-		if (!ph || !g || g->penetrationDepth <= 0) continue;
-		e += 0.4 * ph->kno * std::pow(g->penetrationDepth, 2.5) + (ph->ks > 0 ? 0.5 * ph->shearElastic.squaredNorm() / ph->ks : 0.0);
+	// Runs over every interaction at each check: in parallel, and with a class-index test instead
+	// of dynamic_cast (a ViscBridgePhys only exists on ScGeom-derived geometry: its Law2 needs it).
+	const int  vbIndex = ViscBridgePhys::getClassIndexStatic();
+	const long n       = static_cast<long>(scene->interactions->size());
+	Real       e       = 0;
+#pragma omp parallel for schedule(static) reduction(+ : e)
+	for (long k = 0; k < n; ++k) {
+		const shared_ptr<Interaction>& I = (*scene->interactions)[k];
+		if (!I->isReal() || I->phys->getClassIndex() != vbIndex) continue;
+		const auto& ph = static_cast<const ViscBridgePhys&>(*I->phys);
+		const auto& g  = static_cast<const ScGeom&>(*I->geom);
+		if (g.penetrationDepth <= 0) continue;
+		e += 0.4 * ph.kno * std::pow(g.penetrationDepth, 2.5) + (ph.ks > 0 ? 0.5 * ph.shearElastic.squaredNorm() / ph.ks : 0.0);
 	}
 	return e;
 }
@@ -239,27 +246,41 @@ void ViscBridgeGuard::action()
 	if (scene->trackEnergy && delivered != 0) scene->energy->add(-delivered, "boundaryWork", boundaryWorkIx, false);
 	if (scene->iter % iterPeriod != 0) return;
 	++checks;
-	Real       kinetic = 0, gravityWork = 0;
-	Body::id_t fastest = -1, notFinite = -1;
-	Real       fastestEnergy = -1;
-	Vector3r   gravity       = Vector3r::Zero();
+	Vector3r gravity = Vector3r::Zero();
 	for (const auto& e : scene->engines)
 		if (const auto* n = dynamic_cast<const NewtonIntegrator*>(e.get())) gravity = n->gravity;
-	for (const auto& b : *scene->bodies) {
+	// Sums over the bodies in parallel; which body is at fault is only looked for when the check fails.
+	Real       kinetic = 0, gravityWork = 0;
+	bool       finite  = true;
+	const long nBodies = static_cast<long>(scene->bodies->size());
+	const long nStart  = static_cast<long>(startPos.size());
+#pragma omp parallel for schedule(static) reduction(+ : kinetic, gravityWork) reduction(&& : finite)
+	for (long k = 0; k < nBodies; ++k) {
+		const shared_ptr<Body>& b = (*scene->bodies)[k];
 		if (!b || !b->isDynamic()) continue;
 		const State& st = *b->state;
-		if (!(st.pos.allFinite() && st.vel.allFinite() && st.angVel.allFinite())) {
-			notFinite = b->getId();
-			break;
-		}
-		const Real e = 0.5 * st.mass * st.vel.squaredNorm() + 0.5 * st.angVel.dot(st.inertia.cwiseProduct(st.angVel));
-		kinetic += e;
-		if (e > fastestEnergy) {
-			fastestEnergy = e;
-			fastest       = b->getId();
-		}
-		if (static_cast<size_t>(b->getId()) < startPos.size()) gravityWork += st.mass * gravity.dot(st.pos - startPos[b->getId()]);
+		finite          = finite && st.pos.allFinite() && st.vel.allFinite() && st.angVel.allFinite();
+		kinetic += bodyKineticEnergy(st);
+		if (k < nStart) gravityWork += st.mass * gravity.dot(st.pos - startPos[k]);
 	}
+	Body::id_t fastest = -1, notFinite = -1;
+	// the body with a NaN/inf, else the one with the most kinetic energy
+	auto findCulprit = [&]() {
+		Real fastestEnergy = -1;
+		for (const auto& b : *scene->bodies) {
+			if (!b || !b->isDynamic()) continue;
+			const State& st = *b->state;
+			if (!(st.pos.allFinite() && st.vel.allFinite() && st.angVel.allFinite())) {
+				notFinite = b->getId();
+				return;
+			}
+			if (bodyKineticEnergy(st) > fastestEnergy) {
+				fastestEnergy = bodyKineticEnergy(st);
+				fastest       = b->getId();
+			}
+		}
+	};
+	if (!finite) findCulprit();
 	kineticEnergy = kinetic;
 	energyIn      = startEnergy + std::max<Real>(0, gravityWork + boundaryWork);
 	std::string what;
@@ -271,6 +292,7 @@ void ViscBridgeGuard::action()
 			        + " plus the work of gravity and moving bodies since, " + fmt(energyIn) + " J (× " + fmt(energyMargin) + " allowed)";
 	}
 	if (what.empty()) return;
+	if (finite) findCulprit();
 	lastError = diagnose(notFinite >= 0 ? notFinite : fastest, what);
 	LOG_ERROR(lastError);
 	throw std::runtime_error(lastError);
