@@ -22,6 +22,7 @@
 # per-engine timers, so the 40 ms polling of O.run(n, True) is not counted).
 import math
 import os
+import random
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))  # yade -x: __file__ is yade's own
@@ -51,7 +52,7 @@ def prepare(mu, integration, stepper=False):
     O.interactions.clear()
     O.engines = viscbridge.engines(viscosity=mu, integration=integration, timeStepper=stepper, safety=1.0 if stepper else None,
                                    guard=False, minRadius=R, **LIQUID)
-    rng = __import__('random').Random(6)
+    rng = random.Random(6)
     for b in O.bodies:
         if b.dynamic:
             b.state.vel = tuple(rng.uniform(-PERTURBATION, PERTURBATION) for _ in range(3))
