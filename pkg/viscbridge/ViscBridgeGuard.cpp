@@ -6,6 +6,7 @@
 #include "physics/ModelNames.hpp"
 #include "physics/TimeStepBounds.hpp"
 #include "physics/Validation.hpp"
+#include "SceneValidation.hpp"
 #include <core/InteractionLoop.hpp>
 #include <core/Scene.hpp>
 #include <pkg/common/ElastMat.hpp>
@@ -32,7 +33,15 @@ namespace {
 		return msg;
 	}
 	std::string fmt(Real v) { return viscbridge::formatValue(v); }
-	Real        bodyKineticEnergy(const State& st) { return 0.5 * st.mass * st.vel.squaredNorm() + 0.5 * st.angVel.dot(st.inertia.cwiseProduct(st.angVel)); }
+	// translational + rotational; the inertia is given in the body's principal frame (clumps)
+	Real bodyKineticEnergy(const State& st)
+	{
+		const Vector3r w = st.ori.conjugate() * st.angVel;
+		return 0.5 * st.mass * st.vel.squaredNorm() + 0.5 * w.dot(st.inertia.cwiseProduct(w));
+	}
+	// the bodies whose motion the energy sums follow: dynamic ones, with a clump for its members
+	bool counted(const Body& b) { return b.isDynamic() && !b.isClumpMember(); }
+	using Clock = std::chrono::steady_clock;
 	std::string vec(const Vector3r& v)
 	{
 		std::ostringstream o;
@@ -53,54 +62,6 @@ void ViscBridgeGuard::raiseAtNextStep(Scene* scene, const std::string& message)
 	vector<shared_ptr<Engine>> next = scene->_nextEngines.empty() ? scene->engines : scene->_nextEngines;
 	next.insert(next.begin(), shared_ptr<Engine>(new ViscBridgeGuard));
 	scene->_nextEngines = next;
-}
-
-void ViscBridgeGuard::validateScene()
-{
-	namespace vb = viscbridge;
-	if (!(scene->dt > 0) || !std::isfinite(scene->dt)) vb::rejectValue("O", "dt", scene->dt, "> 0 [s]");
-
-	const InteractionLoop*                          loop = nullptr;
-	const Law2_ScGeom_ViscBridgePhys_HertzViscous* law  = nullptr;
-	bool                                            ip2 = false, solverAfterLoop = false, newtonAfterSolver = false;
-	const NewtonIntegrator*                         newton = nullptr;
-	for (const auto& e : scene->engines) {
-		if (const auto* l = dynamic_cast<const InteractionLoop*>(e.get())) {
-			loop = l;
-			for (const auto& f : l->lawDispatcher->functors)
-				if (const auto* x = dynamic_cast<const Law2_ScGeom_ViscBridgePhys_HertzViscous*>(f.get())) law = x;
-			for (const auto& f : l->physDispatcher->functors)
-				if (dynamic_cast<const Ip2_FrictMat_FrictMat_ViscBridgePhys*>(f.get())) ip2 = true;
-		}
-		if (dynamic_cast<const ViscBridgeImplicitSolver*>(e.get()) && loop) solverAfterLoop = true;
-		if (const auto* n = dynamic_cast<const NewtonIntegrator*>(e.get())) {
-			newton            = n;
-			newtonAfterSolver = solverAfterLoop;
-		}
-	}
-	if (!loop) return;
-	if (law && !ip2)
-		throw std::invalid_argument("Law2_ScGeom_ViscBridgePhys_HertzViscous needs Ip2_FrictMat_FrictMat_ViscBridgePhys in the same InteractionLoop "
-		                            "(it handles ViscBridgePhys only; another Ip2 makes interactions no law can handle).");
-	if (ip2 && !law)
-		throw std::invalid_argument("Ip2_FrictMat_FrictMat_ViscBridgePhys needs Law2_ScGeom_ViscBridgePhys_HertzViscous in the same InteractionLoop "
-		                            "(no other law handles ViscBridgePhys).");
-	if (ip2) {
-		for (const auto& b : *scene->bodies) {
-			if (!b || !b->shape) continue;
-			if (!b->material || !dynamic_cast<const FrictMat*>(b->material.get()))
-				throw std::invalid_argument("Body #" + std::to_string(b->getId()) + " has material "
-				                            + (b->material ? b->material->getClassName() : std::string("None"))
-				                            + "; allowed with Ip2_FrictMat_FrictMat_ViscBridgePhys: FrictMat or a subclass of it.");
-		}
-	}
-	if (law && law->integrationIndex == static_cast<int>(viscbridge::Integration::implicitEuler)) {
-		if (!solverAfterLoop || !newtonAfterSolver)
-			throw std::invalid_argument("Law2_ScGeom_ViscBridgePhys_HertzViscous.integration='implicit' needs a ViscBridgeImplicitSolver engine between "
-			                            "InteractionLoop and NewtonIntegrator; O.engines has none there (viscbridge.engines(integration='implicit') inserts it).");
-		if (newton && newton->damping != 0)
-			vb::rejectValue("NewtonIntegrator", "damping", newton->damping, "0 with implicit viscous integration");
-	}
 }
 
 void ViscBridgeGuard::postLoad(ViscBridgeGuard&)
@@ -140,18 +101,149 @@ Real ViscBridgeGuard::storedElasticEnergy() const
 	return e;
 }
 
-void ViscBridgeGuard::takeReference()
+
+Real ViscBridgeGuard::mechanicalEnergyNow() const
+{
+	Real e = storedElasticEnergy();
+	for (const auto& b : *scene->bodies)
+		if (b && counted(*b)) e += bodyKineticEnergy(*b->state);
+	return e;
+}
+
+void ViscBridgeGuard::takeReference(Real slack)
 {
 	startPos.assign(scene->bodies->size(), Vector3r::Zero());
-	startEnergy = storedElasticEnergy();
-	for (const auto& b : *scene->bodies) {
-		if (!b) continue;
-		startPos[b->getId()] = b->state->pos;
-		if (b->isDynamic()) startEnergy += 0.5 * b->state->mass * b->state->vel.squaredNorm() + 0.5 * b->state->angVel.dot(b->state->inertia.cwiseProduct(b->state->angVel));
+	for (const auto& b : *scene->bodies)
+		if (b) startPos[b->getId()] = b->state->pos;
+	startEnergy         = mechanicalEnergyNow() + slack;
+	lastSlack           = slack;
+	boundaryWork        = 0;
+	referenceIter       = scene->iter;
+	referencePending    = false;
+	rebaselineRequested = false;
+}
+
+bool ViscBridgeGuard::startsNewRun()
+{
+	// A new O.run() (or a paused run resumed) shows as: a step counter that jumped, a new stopAtIter
+	// or stopAtTime, the last step of a run seen the previous time, or a pause long against the steps.
+	const auto now     = Clock::now();
+	const bool first   = lastCallIter < 0;
+	const Real gap     = first ? 0 : std::chrono::duration<Real>(now - lastCallEnd).count();
+	const bool newRun  = !first
+	        && (scene->iter != lastCallIter + 1 || lastStepOfRun || scene->stopAtIter != lastStopAtIter || scene->stopAtTime != lastStopAtTime
+	            || (gap > 0.5 && gap > 20 * stepSeconds));
+	if (!first && !newRun) stepSeconds = stepSeconds > 0 ? 0.9 * stepSeconds + 0.1 * gap : gap;
+	lastCallIter   = scene->iter;
+	lastStopAtIter = scene->stopAtIter;
+	lastStopAtTime = scene->stopAtTime;
+	lastStepOfRun  = (scene->stopAtIter > 0 && scene->iter + 1 == scene->stopAtIter) || (scene->stopAtTime > 0 && scene->time + scene->dt >= scene->stopAtTime);
+	return newRun;
+}
+
+void ViscBridgeGuard::accumulateBoundaryWork(bool newRun)
+{
+	// Work of kinematic bodies (walls moved by the user) on the particles during the last step (E4):
+	// the forces the particles exerted on them are still in the force container (the guard runs
+	// before ForceResetter), and the body gives the particles minus that power. The displacement is
+	// taken from the positions (a PyRunner may move a wall by setting its position, and a velocity
+	// set for the next step is not the one the body moved with); across a new run only the part its
+	// velocity explains, since a wall placed by hand between runs does no work.
+	scene->forces.sync();
+	Real delivered = 0;
+	lastPos.resize(scene->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
+	if (kinematic.empty() || scene->iter % iterPeriod == 0) { // the bodies the user moves: refreshed with each check
+		kinematic.clear();
+		for (const auto& b : *scene->bodies)
+			if (b && !b->isDynamic()) kinematic.push_back(b->getId());
 	}
-	boundaryWork     = 0;
-	referenceIter    = scene->iter;
-	referencePending = false;
+	for (Body::id_t id : kinematic) {
+		const shared_ptr<Body>& b = Body::byId(id, scene);
+		if (!b || b->isDynamic()) continue;
+		const Vector3r moved = newRun ? Vector3r(b->state->vel * scene->dt) : Vector3r(b->state->pos - lastPos[id]);
+		lastPos[id]          = b->state->pos;
+		if (moved.allFinite()) delivered -= scene->forces.getForce(id).dot(moved); // NaN: first call
+		delivered -= scene->forces.getTorque(id).dot(b->state->angVel) * scene->dt;
+	}
+	boundaryWork += delivered;
+	// with energy tracking, as "boundaryWork" beside NewtonIntegrator's gravWork (same sign: what
+	// enters the system is negative), so that O.energy.total() also closes with moving walls
+	if (scene->trackEnergy && delivered != 0) scene->energy->add(-delivered, "boundaryWork", boundaryWorkIx, false);
+}
+
+void ViscBridgeGuard::checkEnergy()
+{
+	++checks;
+	Vector3r gravity = Vector3r::Zero();
+	for (const auto& e : scene->engines)
+		if (const auto* n = dynamic_cast<const NewtonIntegrator*>(e.get())) gravity = n->gravity;
+	// Sums over the bodies in parallel; which body is at fault is only looked for when the check fails.
+	Real       kinetic = 0, gravityWork = 0;
+	bool       finite  = true;
+	const long nBodies = static_cast<long>(scene->bodies->size());
+	const long nStart  = static_cast<long>(startPos.size());
+#pragma omp parallel for schedule(static) reduction(+ : kinetic, gravityWork) reduction(&& : finite)
+	for (long k = 0; k < nBodies; ++k) {
+		const shared_ptr<Body>& b = (*scene->bodies)[k];
+		if (!b || !counted(*b)) continue;
+		const State& st = *b->state;
+		finite          = finite && st.pos.allFinite() && st.vel.allFinite() && st.angVel.allFinite();
+		kinetic += bodyKineticEnergy(st);
+		if (k < nStart) gravityWork += st.mass * gravity.dot(st.pos - startPos[k]);
+	}
+	kineticEnergy = kinetic;
+	energyIn      = startEnergy + std::max<Real>(0, gravityWork + boundaryWork);
+	std::string what;
+	Real        mechanical = 0;
+	if (finite) {
+		mechanical = kinetic + storedElasticEnergy();
+		if (!std::isfinite(mechanical) || mechanical > energyMargin * energyIn + energyFloor)
+			what = "the kinetic + elastic energy " + fmt(mechanical) + " J exceeds what the scene had at step " + std::to_string(referenceIter)
+			        + " plus the work of gravity and moving bodies since, " + fmt(energyIn) + " J (× " + fmt(energyMargin) + " allowed)";
+	}
+	if (finite && what.empty()) {
+		lastSlack = std::max<Real>(0, energyIn - mechanical); // carried over when the next run takes a new reference
+		return;
+	}
+	// the body with a NaN/inf, else the one with the most kinetic energy
+	Body::id_t culprit = -1;
+	Real       most    = -1;
+	for (const auto& b : *scene->bodies) {
+		if (!b || !counted(*b)) continue;
+		const State& st = *b->state;
+		if (!(st.pos.allFinite() && st.vel.allFinite() && st.angVel.allFinite())) {
+			what    = "body #" + std::to_string(b->getId()) + " has a NaN or inf position or velocity";
+			culprit = b->getId();
+			break;
+		}
+		if (bodyKineticEnergy(st) > most) {
+			most    = bodyKineticEnergy(st);
+			culprit = b->getId();
+		}
+	}
+	lastError = diagnose(culprit, what);
+	LOG_ERROR(lastError);
+	throw std::runtime_error(lastError);
+}
+
+std::string ViscBridgeGuard::safeStepAdvice(bool implicit, bool washino)
+{
+	std::ostringstream msg;
+	msg.precision(4);
+	const Real safe = 0.5 * bound.combined;
+	if (!(safe > 0) || !std::isfinite(safe)) {
+		msg << " No time step can be recommended: nothing in the current contacts bounds it.";
+	} else if (safe >= scene->dt) {
+		msg << " The time step dt = " << scene->dt << " s is already below ViscBridgeTimeStepper's choice for the current contacts (" << safe
+		    << " s at safety 0.5), so a smaller dt is not the remedy: "
+		    << (washino ? "the gain is likely the tangential model's (see above)."
+		                : "look for energy put in from outside the bound (velocities or positions set between steps: call rebaseline() after "
+		                  "such a change; an engine or PyRunner that sets velocities).");
+	} else {
+		msg << " A safe dt for the current contacts: " << safe << " s (ViscBridgeTimeStepper, safety 0.5; "
+		    << (implicit ? "implicit viscous forces, collision bound only)." : "or use integration='implicit' to lift the viscous limit).");
+	}
+	return msg.str();
 }
 
 std::string ViscBridgeGuard::diagnose(Body::id_t worst, const std::string& what)
@@ -160,14 +252,19 @@ std::string ViscBridgeGuard::diagnose(Body::id_t worst, const std::string& what)
 	msg.precision(4);
 	msg << "ViscBridgeGuard stopped the run at step " << scene->iter << " (t = " << scene->time << " s, dt = " << scene->dt << " s): " << what << ".";
 	const bool implicit = viscousIntegrationIsImplicit(scene);
+	const auto functors = findViscBridgeFunctors(scene);
+	const bool washino  = functors.ip2 && functors.ip2->tangentialModel == "washino";
 	bound.evaluate(scene, implicit, 0.4);
+	if (washino)
+		msg << " The scene uses tangentialModel='washino', which is not dissipative (physics.md P7): it can create kinetic energy at any "
+		       "time step, so this gain may be the model's rather than an unstable time step; 'slip' and 'goldman' are dissipative.";
 	if (worst >= 0 && Body::byId(worst, scene)) {
 		const Body& b = *Body::byId(worst, scene);
 		msg << " Body #" << worst << " at " << vec(b.state->pos) << ", velocity " << vec(b.state->vel) << ".";
 		// its most demanding interaction: the smallest explicit limit
-		Real                 tightest = std::numeric_limits<Real>::infinity();
-		const Interaction*   which    = nullptr;
-		const ViscBridgePhys* phys    = nullptr;
+		Real                  tightest = std::numeric_limits<Real>::infinity();
+		const Interaction*    which    = nullptr;
+		const ViscBridgePhys* phys     = nullptr;
 		for (const auto& kv : b.intrs) {
 			const Interaction* I = kv.second.get();
 			if (!I->isReal()) continue;
@@ -188,15 +285,17 @@ std::string ViscBridgeGuard::diagnose(Body::id_t worst, const std::string& what)
 			    << " N/m, m* = " << phys->mEff << " kg. ";
 			const Real tv = phys->viscousStepCoefficient > 0 ? phys->mEff / phys->viscousStepCoefficient : std::numeric_limits<Real>::infinity();
 			if (!implicit && phys->bridge && scene->dt > 2 * tv)
-				msg << "Violated: the explicit viscous pair limit dt < 2 m*/(C_n + w_t C_t) = " << 2 * tv << " s (physics.md P12).";
+				msg << "Violated: the explicit viscous pair limit dt < 2 m*/(C_n + w_t C_t) = " << 2 * tv << " s (physics.md P12, P14a).";
 			else if (scene->dt > tightest)
-				msg << "Violated: the pair limit 4m*/(C + sqrt(C² + 4m*k)) = " << tightest << " s (P13).";
+				msg << "Violated: the pair limit 4m*/(C + sqrt(C² + 4m*k)) = " << tightest << " s (physics.md P13).";
+			else if (scene->dt > bound.combined)
+				msg << "dt is within this pair's limit (" << tightest << " s) but above the network bound P14 of the current contacts ("
+				    << bound.combined << " s), below which stability is guaranteed.";
 			else
-				msg << "Violated: the network limit P14 (several contacts on one body): " << bound.combined << " s.";
+				msg << "dt is within this pair's limit (" << tightest << " s) and the network bound P14 (" << bound.combined << " s).";
 		}
 	}
-	msg << " A safe dt for the current contacts: " << 0.5 * bound.combined << " s (ViscBridgeTimeStepper, safety 0.5; "
-	    << (implicit ? "implicit viscous forces, collision bound only)." : "or use integration='implicit' to lift the viscous limit).");
+	msg << safeStepAdvice(implicit, washino);
 	return msg.str();
 }
 
@@ -207,95 +306,24 @@ void ViscBridgeGuard::action()
 		lastError = pending;
 		throw std::runtime_error(pending);
 	}
-	const long signature = static_cast<long>(scene->bodies->size()) * 1000003L + static_cast<long>(scene->engines.size());
+	const bool   newRun    = startsNewRun();
+	const size_t signature = sceneSignature(scene);
 	if (signature != checkedSignature || scene->iter == 0) {
-		validateScene();
+		validateScene(scene, true);
 		checkedSignature = signature;
 		referencePending = true;
-		return;
-	}
-	if (referencePending) {
-		takeReference();
-		return;
-	}
-	// Work of kinematic bodies (walls moved by the user) on the particles during the last step: the
-	// forces the particles exerted on them are still in the force container (the guard runs before
-	// ForceResetter), and the body gives the particles minus that power.
-	// The displacement is taken from the positions (a velocity set for the next step, e.g. by a
-	// PyRunner shaking a wall, is not the one the body moved with), with the force of the step it
-	// moved in (still in the container: the guard runs before ForceResetter).
-	scene->forces.sync();
-	Real delivered = 0;
-	lastPos.resize(scene->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
-	if (kinematic.empty() || scene->iter % iterPeriod == 0) { // the bodies the user moves: refreshed with each check
-		kinematic.clear();
-		for (const auto& b : *scene->bodies)
-			if (b && !b->isDynamic()) kinematic.push_back(b->getId());
-	}
-	for (Body::id_t id : kinematic) {
-		const shared_ptr<Body>& b = Body::byId(id, scene);
-		if (!b || b->isDynamic()) continue;
-		const Vector3r   moved = b->state->pos - lastPos[id];
-		lastPos[id]            = b->state->pos;
-		if (moved.allFinite()) delivered -= scene->forces.getForce(id).dot(moved); // NaN: first call
-		delivered -= scene->forces.getTorque(id).dot(b->state->angVel) * scene->dt;
-	}
-	boundaryWork += delivered;
-	// with energy tracking, as "boundaryWork" beside NewtonIntegrator's gravWork (same sign: what
-	// enters the system is negative), so that O.energy.total() also closes with moving walls
-	if (scene->trackEnergy && delivered != 0) scene->energy->add(-delivered, "boundaryWork", boundaryWorkIx, false);
-	if (scene->iter % iterPeriod != 0) return;
-	++checks;
-	Vector3r gravity = Vector3r::Zero();
-	for (const auto& e : scene->engines)
-		if (const auto* n = dynamic_cast<const NewtonIntegrator*>(e.get())) gravity = n->gravity;
-	// Sums over the bodies in parallel; which body is at fault is only looked for when the check fails.
-	Real       kinetic = 0, gravityWork = 0;
-	bool       finite  = true;
-	const long nBodies = static_cast<long>(scene->bodies->size());
-	const long nStart  = static_cast<long>(startPos.size());
-#pragma omp parallel for schedule(static) reduction(+ : kinetic, gravityWork) reduction(&& : finite)
-	for (long k = 0; k < nBodies; ++k) {
-		const shared_ptr<Body>& b = (*scene->bodies)[k];
-		if (!b || !b->isDynamic()) continue;
-		const State& st = *b->state;
-		finite          = finite && st.pos.allFinite() && st.vel.allFinite() && st.angVel.allFinite();
-		kinetic += bodyKineticEnergy(st);
-		if (k < nStart) gravityWork += st.mass * gravity.dot(st.pos - startPos[k]);
-	}
-	Body::id_t fastest = -1, notFinite = -1;
-	// the body with a NaN/inf, else the one with the most kinetic energy
-	auto findCulprit = [&]() {
-		Real fastestEnergy = -1;
-		for (const auto& b : *scene->bodies) {
-			if (!b || !b->isDynamic()) continue;
-			const State& st = *b->state;
-			if (!(st.pos.allFinite() && st.vel.allFinite() && st.angVel.allFinite())) {
-				notFinite = b->getId();
-				return;
-			}
-			if (bodyKineticEnergy(st) > fastestEnergy) {
-				fastestEnergy = bodyKineticEnergy(st);
-				fastest       = b->getId();
-			}
+	} else if (referencePending || rebaselineRequested) {
+		if (rebaselineRequested) ++rebaselines;
+		takeReference(0);
+	} else {
+		if (newRun) {
+			takeReference(lastSlack);
+			++rebaselines;
 		}
-	};
-	if (!finite) findCulprit();
-	kineticEnergy = kinetic;
-	energyIn      = startEnergy + std::max<Real>(0, gravityWork + boundaryWork);
-	std::string what;
-	if (notFinite >= 0) what = "body #" + std::to_string(notFinite) + " has a NaN or inf position or velocity";
-	else {
-		const Real mechanical = kinetic + storedElasticEnergy();
-		if (!std::isfinite(mechanical) || mechanical > energyMargin * energyIn + energyFloor)
-			what = "the kinetic + elastic energy " + fmt(mechanical) + " J exceeds what the scene had at step " + std::to_string(referenceIter)
-			        + " plus the work of gravity and moving bodies since, " + fmt(energyIn) + " J (× " + fmt(energyMargin) + " allowed)";
+		accumulateBoundaryWork(newRun);
+		if (scene->iter % iterPeriod == 0) checkEnergy();
 	}
-	if (what.empty()) return;
-	if (finite) findCulprit();
-	lastError = diagnose(notFinite >= 0 ? notFinite : fastest, what);
-	LOG_ERROR(lastError);
-	throw std::runtime_error(lastError);
+	lastCallEnd = Clock::now();
 }
 
 } // namespace yade

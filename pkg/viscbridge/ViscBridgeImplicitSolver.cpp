@@ -106,7 +106,10 @@ void ViscBridgeImplicitSolver::action()
 		sb.inertia       = st.inertia[0];
 		sb.vel           = st.vel;
 		sb.angVel        = st.angVel;
-		const bool moves = b.isDynamic() && st.mass > 0 && !b.isClumpMember();
+		if (b.isClumpMember())
+			throw std::invalid_argument("ViscBridgeImplicitSolver: body #" + std::to_string(id) + " is a member of clump #" + std::to_string(b.clumpId)
+			                            + ", and clumps are not integrated implicitly (a member moves with its clump); use integration='explicit' for scenes with clumps.");
+		const bool moves = b.isDynamic() && st.mass > 0;
 		long       freeBits = 0;
 		for (int d = 0; d < 6; ++d) {
 			sb.free[d] = moves && !(st.blockedDOFs & State::axisDOF(d % 3, d >= 3));

@@ -4,6 +4,7 @@
 #include "physics/ModelNames.hpp"
 #include "physics/TimeStepBounds.hpp"
 #include "physics/Validation.hpp"
+#include "SceneValidation.hpp"
 #include <core/InteractionLoop.hpp>
 #include <core/Scene.hpp>
 #include <pkg/common/ElastMat.hpp>
@@ -36,19 +37,6 @@ void ViscBridgeTimeStepper::postLoad(ViscBridgeTimeStepper&)
 	lastValidGrowth   = maxGrowth;
 	lastValidRayleigh = rayleighFraction;
 	lastValidMaxDt    = maxDt;
-}
-
-bool viscousIntegrationIsImplicit(const Scene* sc)
-{
-	for (const auto& e : sc->engines) {
-		const auto* loop = dynamic_cast<const InteractionLoop*>(e.get());
-		if (!loop) continue;
-		for (const auto& f : loop->lawDispatcher->functors) {
-			const auto* law = dynamic_cast<const Law2_ScGeom_ViscBridgePhys_HertzViscous*>(f.get());
-			if (law && law->integrationIndex == static_cast<int>(viscbridge::Integration::implicitEuler)) return true;
-		}
-	}
-	return false;
 }
 
 void NetworkTimeStepBound::evaluate(Scene* sc, bool implicit, Real rayleighFraction)
@@ -165,8 +153,22 @@ void NetworkTimeStepBound::evaluate(Scene* sc, bool implicit, Real rayleighFract
 	}
 }
 
+bool ViscBridgeTimeStepper::isActivated()
+{
+	// the base class divides by timeStepUpdateInterval (an inherited attribute, without a hook on
+	// assignment): a value < 1 is reported here, at the first step, instead of a SIGFPE
+	if (timeStepUpdateInterval < 1)
+		viscbridge::rejectValue("ViscBridgeTimeStepper", "timeStepUpdateInterval", static_cast<double>(timeStepUpdateInterval), ">= 1 (steps)");
+	return TimeStepper::isActivated();
+}
+
 void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 {
+	const size_t signature = sceneSignature(sc);
+	if (signature != validatedSignature) { // e.g. a sphere of radius 0 would give dt = 0 or NaN
+		validateScene(sc, false);
+		validatedSignature = signature;
+	}
 	bound.evaluate(sc, viscousIntegrationIsImplicit(sc), rayleighFraction);
 	criticalBody = bound.criticalBody;
 	dtCollision  = safety * bound.collision;
@@ -176,7 +178,11 @@ void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 	Real dt      = dtBound;
 	if (maxDt > 0) dt = std::min(dt, maxDt);
 	if (!std::isfinite(dt)) return; // nothing to bound (no dynamic spheres, no contacts): keep dt
-	sc->dt = std::min(dt, maxGrowth * sc->dt);
+	if (!(dt > 0))
+		throw std::runtime_error("ViscBridgeTimeStepper: the time-step bound is " + viscbridge::formatValue(dt) + " s at body #"
+		                         + std::to_string(criticalBody) + "; check its radius, mass and material (all must be > 0 and finite).");
+	// growth is limited from a valid previous step only (O.dt <= 0 would otherwise stay there)
+	sc->dt = sc->dt > 0 ? std::min(dt, maxGrowth * sc->dt) : dt;
 }
 
 } // namespace yade

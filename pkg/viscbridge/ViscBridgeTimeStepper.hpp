@@ -16,14 +16,15 @@ struct NetworkTimeStepBound {
 	long       rayleighSignature = -1;
 	void              evaluate(Scene* scene, bool viscousImplicit, Real rayleighFraction);
 };
-bool viscousIntegrationIsImplicit(const Scene* scene);
 
 class ViscBridgeTimeStepper : public TimeStepper {
 	NetworkTimeStepBound bound;
+	size_t               validatedSignature = 0; // sceneSignature() of the last validated scene
 	Real              lastValidSafety = 0.5, lastValidGrowth = 1.1, lastValidRayleigh = 0.4, lastValidMaxDt = 0;
 
 public:
 	void computeTimeStep(Scene*) override;
+	bool isActivated() override;
 	void postLoad(ViscBridgeTimeStepper&);
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR(ViscBridgeTimeStepper, TimeStepper,

@@ -35,6 +35,8 @@ r̄ = r and m* = m.  All quantities in SI units.  The constants are those of the
 import math
 from dataclasses import dataclass, field
 
+from ._checks import choice, non_negative, number, positive, reject
+
 __all__ = ['Bound', 'TimeStepCriteria', 'critical_dt', 'rayleigh_time', 'rayleigh_dt',
            'hertz_collision_time', 'hertz_max_overlap', 'hertz_normal_stiffness',
            'mindlin_tangential_stiffness', 'effective_young', 'effective_shear',
@@ -59,63 +61,24 @@ ROT = 2.5
 # ------------------------------------------------------------------------------------------------
 # argument checks: every failure is a ValueError naming the parameter, its value and the range
 # ------------------------------------------------------------------------------------------------
-def _reject(func, name, value, allowed):
-    raise ValueError('%s: %s=%r is out of range; allowed: %s.' % (func, name, value, allowed))
-
-
-def _number(func, name, value, allowed):
-    if isinstance(value, bool):
-        _reject(func, name, value, allowed)
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        _reject(func, name, value, allowed)
-    if not math.isfinite(x):
-        _reject(func, name, value, allowed)
-    return x
-
-
-def _positive(func, name, value, unit=''):
-    allowed = '> 0 (finite)' + unit
-    x = _number(func, name, value, allowed)
-    if not x > 0:
-        _reject(func, name, value, allowed)
-    return x
-
-
-def _non_negative(func, name, value, unit=''):
-    allowed = '>= 0 (finite)' + unit
-    x = _number(func, name, value, allowed)
-    if not x >= 0:
-        _reject(func, name, value, allowed)
-    return x
-
-
 def _poisson(func, value, name='poisson'):
     allowed = '(-1, 0.5)'
-    x = _number(func, name, value, allowed)
+    x = number(func, name, value, allowed)
     if not -1 < x < 0.5:
-        _reject(func, name, value, allowed)
+        reject(func, name, value, allowed)
     return x
-
-
-def _choice(func, name, value, choices):
-    if value not in choices:
-        raise ValueError("%s: %s=%r is not a known name; allowed: %s." % (
-            func, name, value, ', '.join(repr(c) for c in choices)))
-    return value
 
 
 def _geometry(func, radius1, radius2, wall):
     """(r1, r2) checked; r2 is None against a wall, r1 when radius2 is None (identical spheres)."""
-    r1 = _positive(func, 'radius1' if func != 'critical_dt' else 'radius', radius1, ' [m]')
+    r1 = positive(func, 'radius1' if func != 'critical_dt' else 'radius', radius1, ' [m]')
     if not isinstance(wall, bool):
-        _reject(func, 'wall', wall, 'True or False')
+        reject(func, 'wall', wall, 'True or False')
     if wall:
         if radius2 is not None:
-            _reject(func, 'radius2', radius2, 'None when wall=True (a wall has no radius)')
+            reject(func, 'radius2', radius2, 'None when wall=True (a wall has no radius)')
         return r1, None
-    r2 = r1 if radius2 is None else _positive(func, 'radius2', radius2, ' [m]')
+    r2 = r1 if radius2 is None else positive(func, 'radius2', radius2, ' [m]')
     return r1, r2
 
 
@@ -189,9 +152,9 @@ def restitution_damping_ratio(restitution):
     """Damping ratio β of YADE's Mindlin law for a restitution coefficient e (Thornton et al. 2013,
     (B6)–(B7); HertzMindlin.hpp ``dampingRatioFromRestitution``).  e = 1 gives 0.  The contact
     dashpots are c_n = 2β√(m* k_n), c_s = 2β√(m* k_s)."""
-    e = _number('restitution_damping_ratio', 'restitution', restitution, '(0, 1]')
+    e = number('restitution_damping_ratio', 'restitution', restitution, '(0, 1]')
     if not 0 < e <= 1:
-        _reject('restitution_damping_ratio', 'restitution', restitution, '(0, 1]')
+        reject('restitution_damping_ratio', 'restitution', restitution, '(0, 1]')
     if e == 1.0:
         return 0.0
     h = (-6.918798, -16.41105, 146.8049, -796.4559, 2928.711, -7206.864, 11494.29, -11342.18,
@@ -215,9 +178,9 @@ def rayleigh_time(radius, density, young, poisson):
     scales as E^(−1/2).
     """
     f = 'rayleigh_time'
-    r = _positive(f, 'radius', radius, ' [m]')
-    rho = _positive(f, 'density', density, ' [kg/m³]')
-    e = _positive(f, 'young', young, ' [Pa]')
+    r = positive(f, 'radius', radius, ' [m]')
+    rho = positive(f, 'density', density, ' [kg/m³]')
+    e = positive(f, 'young', young, ' [Pa]')
     nu = _poisson(f, poisson)
     shear = e / (2 * (1 + nu))
     return math.pi * r * math.sqrt(rho / shear) / (RAYLEIGH_A * nu + RAYLEIGH_B)
@@ -225,7 +188,7 @@ def rayleigh_time(radius, density, young, poisson):
 
 def rayleigh_dt(radius, density, young, poisson, fraction=0.2):
     """The usual DEM collision step: fraction · T_R (see :func:`rayleigh_time`)."""
-    fr = _positive('rayleigh_dt', 'fraction', fraction)
+    fr = positive('rayleigh_dt', 'fraction', fraction)
     return fr * rayleigh_time(radius, density, young, poisson)
 
 
@@ -238,10 +201,10 @@ def hertz_collision_time(radius1, radius2, density, young, poisson, impact_veloc
     """
     f = 'hertz_collision_time'
     r1, r2 = _geometry(f, radius1, radius2, wall)
-    rho = _positive(f, 'density', density, ' [kg/m³]')
-    e = _positive(f, 'young', young, ' [Pa]')
+    rho = positive(f, 'density', density, ' [kg/m³]')
+    e = positive(f, 'young', young, ' [Pa]')
     nu = _poisson(f, poisson)
-    v = _positive(f, 'impact_velocity', impact_velocity, ' [m/s]')
+    v = positive(f, 'impact_velocity', impact_velocity, ' [m/s]')
     r_bar = reduced_radius(r1, r2)
     m_eff = reduced_mass(sphere_mass(r1, rho), None if r2 is None else sphere_mass(r2, rho))
     e_star = effective_young(e, nu)
@@ -285,14 +248,14 @@ def viscous_decay_time(radius1, density, viscosity, s_min, radius2=None, wall=Fa
     """
     f = 'viscous_decay_time'
     r1, r2 = _geometry(f, radius1, radius2, wall)
-    rho = _positive(f, 'density', density, ' [kg/m³]')
-    mu = _non_negative(f, 'viscosity', viscosity, ' [Pa·s]; 0 means dry')
-    s = _positive(f, 's_min', s_min, ' [m]')
-    _choice(f, 'normal_model', normal_model, NORMAL_MODELS)
+    rho = positive(f, 'density', density, ' [kg/m³]')
+    mu = non_negative(f, 'viscosity', viscosity, ' [Pa·s]; 0 means dry')
+    s = positive(f, 's_min', s_min, ' [m]')
+    choice(f, 'normal_model', normal_model, NORMAL_MODELS)
     if normal_model == 'pitois':
         if bridge_volume is None:
-            _reject(f, 'bridge_volume', bridge_volume, "> 0 [m³] (required by normal_model='pitois')")
-        bridge_volume = _positive(f, 'bridge_volume', bridge_volume, ' [m³]')
+            reject(f, 'bridge_volume', bridge_volume, "> 0 [m³] (required by normal_model='pitois')")
+        bridge_volume = positive(f, 'bridge_volume', bridge_volume, ' [m³]')
     r_bar = reduced_radius(r1, r2)
     m_eff = reduced_mass(sphere_mass(r1, rho), None if r2 is None else sphere_mass(r2, rho))
     c = normal_coefficient(r_bar, mu, s, normal_model, bridge_volume)
@@ -310,8 +273,8 @@ def tangential_coefficients(radius1, viscosity, s, radius2=None, wall=False):
     """
     f = 'tangential_coefficients'
     r1, r2 = _geometry(f, radius1, radius2, wall)
-    mu = _non_negative(f, 'viscosity', viscosity, ' [Pa·s]')
-    gap = _positive(f, 's', s, ' [m]')
+    mu = non_negative(f, 'viscosity', viscosity, ' [Pa·s]')
+    gap = positive(f, 's', s, ' [m]')
     r_bar = reduced_radius(r1, r2)
     return _goldman(6 * math.pi * mu * r_bar, r_bar, gap)
 
@@ -489,20 +452,20 @@ def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wal
     """
     f = 'critical_dt'
     r1, r2 = _geometry(f, radius, radius2, wall)
-    rho = _positive(f, 'density', density, ' [kg/m³]')
-    e = _positive(f, 'young', young, ' [Pa]')
+    rho = positive(f, 'density', density, ' [kg/m³]')
+    e = positive(f, 'young', young, ' [Pa]')
     nu = _poisson(f, poisson)
-    mu = _non_negative(f, 'viscosity', viscosity, ' [Pa·s]; 0 means dry')
-    _choice(f, 'normal_model', normal_model, NORMAL_MODELS)
-    _choice(f, 'tangential_model', tangential_model, TANGENTIAL_MODELS)
-    _choice(f, 'integration', integration, INTEGRATIONS)
-    z = _number(f, 'coordination', coordination, '>= 1 (contacts per particle)')
+    mu = non_negative(f, 'viscosity', viscosity, ' [Pa·s]; 0 means dry')
+    choice(f, 'normal_model', normal_model, NORMAL_MODELS)
+    choice(f, 'tangential_model', tangential_model, TANGENTIAL_MODELS)
+    choice(f, 'integration', integration, INTEGRATIONS)
+    z = number(f, 'coordination', coordination, '>= 1 (contacts per particle)')
     if not z >= 1:
-        _reject(f, 'coordination', coordination, '>= 1 (contacts per particle)')
-    v = _positive(f, 'impact_velocity', impact_velocity, ' [m/s]')
-    en = _number(f, 'restitution', restitution, '(0, 1]')
+        reject(f, 'coordination', coordination, '>= 1 (contacts per particle)')
+    v = positive(f, 'impact_velocity', impact_velocity, ' [m/s]')
+    en = number(f, 'restitution', restitution, '(0, 1]')
     if not 0 < en <= 1:
-        _reject(f, 'restitution', restitution, '(0, 1]')
+        reject(f, 'restitution', restitution, '(0, 1]')
 
     r_bar = reduced_radius(r1, r2)
     m1 = sphere_mass(r1, rho)
@@ -511,21 +474,21 @@ def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wal
     inv_m = 1.0 / m1 + (0.0 if m2 is None else 1.0 / m2)  # 1/m_i + 1/m_j, = 1/m* (P14)
 
     if s_min is None:
-        rel = _number(f, 's_min_rel', s_min_rel, '(0, 1] (S_min / r̄)')
+        rel = number(f, 's_min_rel', s_min_rel, '(0, 1] (S_min / r̄)')
         if not 0 < rel <= 1:
-            _reject(f, 's_min_rel', s_min_rel, '(0, 1] (S_min / r̄)')
+            reject(f, 's_min_rel', s_min_rel, '(0, 1] (S_min / r̄)')
         smin = rel * r_bar
     else:
-        smin = _positive(f, 's_min', s_min, ' [m]')
+        smin = positive(f, 's_min', s_min, ' [m]')
     if bridge_volume is None:
-        vrel = _number(f, 'bridge_volume_rel', bridge_volume_rel, '(0, 1] (fraction of the particle volume)')
+        vrel = number(f, 'bridge_volume_rel', bridge_volume_rel, '(0, 1] (fraction of the particle volume)')
         if not 0 < vrel <= 1:
-            _reject(f, 'bridge_volume_rel', bridge_volume_rel, '(0, 1] (fraction of the particle volume)')
+            reject(f, 'bridge_volume_rel', bridge_volume_rel, '(0, 1] (fraction of the particle volume)')
         v1 = sphere_volume(r1)
         v2 = v1 if r2 is None else sphere_volume(r2)
         volume = vrel * 0.5 * (v1 + v2)
     else:
-        volume = _positive(f, 'bridge_volume', bridge_volume, ' [m³]')
+        volume = positive(f, 'bridge_volume', bridge_volume, ' [m³]')
 
     # ---- dry contact ------------------------------------------------------------------------------
     e_star = effective_young(e, nu)
@@ -596,7 +559,7 @@ def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wal
                                 '2m*/((1+beta) C_T), beta = 2.5(1 + S_min/2r)^2 (~0.571 m*/C_T)', 'viscous'))
         elif tangential_model == 'washino':
             bounds.append(Bound('tangential_coupled', 2 * m_eff / (c_T + ROT * c_R), 'stability',
-                                '2m*/(C_T + 2.5 C_R) (P7)', 'viscous'))
+                                '2m*/(C_T + 2.5 C_R) (P13c)', 'viscous'))
             if c_R > 0:  # C_R > 0 for S_min < 6.6 r̄
                 bounds.append(Bound('tangential_rotation', 2 * m_eff / (ROT * c_R), 'stability',
                                     '0.8 m*/C_R', 'viscous'))

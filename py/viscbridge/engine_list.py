@@ -12,16 +12,30 @@ import math
 
 import yade.wrapper as yw
 
-__all__ = ['engines', 'bridge_parameters']
+from . import _checks, criteria
 
-# Ip2_FrictMat_FrictMat_ViscBridgePhys attributes a scene can set through engines().
-_IP2_KEYS = ('viscosity', 'bridgeVolume', 'bridgeVolumeRel', 'contactAngle', 'sMin', 'sMinRel',
-             'normalModel', 'tangentialModel', 'formationDistance', 'en')
+__all__ = ['engines', 'bridge_parameters', 'ip2_defaults']
+
+def ip2_defaults():
+    """The attributes of :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys` a scene sets (its own, not those
+    of every IPhysFunctor), with their defaults: read off the C++ class, the one place they live."""
+    own = yw.Ip2_FrictMat_FrictMat_ViscBridgePhys().dict()
+    inherited = yw.IPhysFunctor().dict()
+    return {k: v for k, v in own.items() if k not in inherited}
 
 
 def bridge_parameters(**effects):
-    """Split ``effects`` into the Ip2 attributes and the rest (ValueError on unknown names)."""
-    ip2 = {k: effects.pop(k) for k in list(effects) if k in _IP2_KEYS}
+    """Split ``effects`` into the Ip2 attributes and the rest.  Each Ip2 value must have the type of
+    its default (a real number, or a model name): ValueError naming the parameter otherwise, before
+    Boost.Python could report an unnamed converter error."""
+    defaults = ip2_defaults()
+    ip2 = {k: effects.pop(k) for k in list(effects) if k in defaults}
+    for k, v in ip2.items():
+        if isinstance(defaults[k], str):
+            if not isinstance(v, str):
+                raise ValueError('%s=%r is not a name; allowed: a string (see help(Ip2_FrictMat_FrictMat_ViscBridgePhys))' % (k, v))
+        else:
+            ip2[k] = _checks.number('Ip2_FrictMat_FrictMat_ViscBridgePhys', k, v, 'a finite real number (see its docstring for the range)')
     return ip2, effects
 
 
@@ -67,21 +81,29 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
     label_prefix: prefix of the engines' labels ('collider', 'viscBridgeIp2', 'viscBridgeLaw',
         'newton', 'timeStepper', 'implicitSolver', 'guard').
     """
+    f = 'engines'
     try:
-        gravity = tuple(float(g) for g in gravity)
-    except (TypeError, ValueError):
+        gravity = tuple(_checks.number(f, 'gravity', g, 'three finite numbers [m/s²]') for g in gravity)
+    except TypeError:
         gravity = None
-    if gravity is None or len(gravity) != 3 or not all(math.isfinite(g) for g in gravity):
-        raise ValueError('engines(gravity=...): allowed: three finite numbers [m/s²]')
-    if integration not in ('explicit', 'implicit'):
-        raise ValueError("engines(integration=%r): allowed: 'explicit', 'implicit'" % (integration,))
-    if safety is not None and not (isinstance(safety, (int, float)) and 0 < safety <= 1):
-        raise ValueError('engines(safety=%r): allowed: (0, 1] or None' % (safety,))
+    if gravity is None or len(gravity) != 3:
+        _checks.reject(f, 'gravity', gravity, 'three finite numbers [m/s²]')
+    _checks.choice(f, 'integration', integration, criteria.INTEGRATIONS)
+    _checks.boolean(f, 'timeStepper', timeStepper)
+    _checks.boolean(f, 'guard', guard)
+    if safety is not None:
+        _checks.in_range(f, 'safety', safety, 0, 1, lo_open=True)
+    if not isinstance(label_prefix, str):
+        _checks.reject(f, 'label_prefix', label_prefix, 'a string')
     ip2_args, rest = bridge_parameters(**effects)
     if rest:
         raise ValueError('engines(): unknown parameter(s) %s; allowed: %s, gravity, integration, '
                          'timeStepper, safety, guard, minRadius, label_prefix'
-                         % (', '.join(sorted(rest)), ', '.join(_IP2_KEYS)))
+                         % (', '.join(sorted(rest)), ', '.join(sorted(ip2_defaults()))))
+    if integration == 'implicit' and ip2_args.get('tangentialModel') == 'washino':
+        raise ValueError("engines(integration='implicit', tangentialModel='washino'): 'washino' is not dissipative "
+                         "(physics.md P7) and cannot be integrated implicitly; allowed with integration='implicit': "
+                         "tangentialModel='none', 'slip', 'goldman'")
     ip2 = yw.Ip2_FrictMat_FrictMat_ViscBridgePhys(label=label_prefix + 'viscBridgeIp2', **ip2_args)
     law = yw.Law2_ScGeom_ViscBridgePhys_HertzViscous(label=label_prefix + 'viscBridgeLaw', integration=integration)
     aabb, sphereFactor, reach, boxFactor = _detection_range(ip2.formationDistance, minRadius)

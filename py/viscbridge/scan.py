@@ -16,21 +16,34 @@ Command line (inside the environment, e.g. ``./yadew sh python3 -m viscbridge.sc
     python3 -m viscbridge.scan collect DIR                             # DIR/results.csv from results.jsonl
     python3 -m viscbridge.scan slurm  DIR                              # DIR/scan.sbatch for the same table
 
-Every finished case is appended to ``DIR/results.jsonl`` at once; re-running skips finished cases,
-so a killed scan resumes where it stopped.
+``--help`` lists the case fields (:data:`CASE_FIELDS`).  Every case is checked before anything
+runs; equal cases (``viscosity=1`` and ``viscosity=1.0``) run once.  Every finished case is
+appended to ``DIR/results.jsonl`` at once; re-running skips finished cases, so a killed or
+interrupted scan resumes where it stopped.  ``DIR/cases.table`` holds the whole scan,
+``DIR/todo.table`` the cases yade-batch was given; per-case logs are ``DIR/case-KEY.log``.  Cases
+that fail are listed with their error and make the command exit non-zero.
 """
 import argparse
+import collections
+import contextlib
 import hashlib
 import itertools
 import json
 import math
+import numbers
 import os
+import re
+import signal
 import subprocess
 import sys
+import threading
 import time
 
-__all__ = ['CASE_DEFAULTS', 'normalize_case', 'case_key', 'one_at_a_time', 'grid', 'bisect_threshold',
-           'find_critical_dt', 'ResultsFile', 'write_table', 'run_cases', 'collect']
+from . import criteria
+
+__all__ = ['CASE_DEFAULTS', 'CASE_FIELDS', 'Field', 'Interval', 'ScanError', 'CasesFailed', 'normalize_case',
+           'case_key', 'unique_cases', 'one_at_a_time', 'grid', 'bisect_threshold', 'find_critical_dt', 'ResultsFile',
+           'write_table', 'run_cases', 'collect', 'slurm_script', 'build_parser', 'main']
 
 #: Every field a case can set, with its default.  Liquid/model fields go to
 #: Ip2_FrictMat_FrictMat_ViscBridgePhys; the rest describe the bed and the trial.
@@ -44,27 +57,133 @@ _LIQUID_KEYS = ('viscosity', 'sMinRel', 'bridgeVolumeRel', 'contactAngle', 'norm
 _BED_KEYS = ('n', 'radius', 'sizeRatio', 'density', 'young', 'poisson', 'friction', 'seed')
 
 
-def normalize_case(case):
-    """The case with defaults filled in; ValueError on unknown fields."""
-    unknown = set(case) - set(CASE_DEFAULTS)
+class Interval(collections.namedtuple('Interval', 'lo hi lo_open hi_open')):
+    """The allowed values of a numeric field: from lo to hi (None: unbounded), each end open or closed."""
+
+    def __new__(cls, lo=None, hi=None, lo_open=False, hi_open=False):
+        return super().__new__(cls, lo, hi, lo_open, hi_open)
+
+    def __contains__(self, x):
+        above = self.lo is None or (x > self.lo if self.lo_open else x >= self.lo)
+        below = self.hi is None or (x < self.hi if self.hi_open else x <= self.hi)
+        return above and below
+
+    def __str__(self):
+        if self.lo is None and self.hi is None:
+            return 'any'
+        if self.hi is None:
+            return '%s %.6g' % ('>' if self.lo_open else '>=', self.lo)
+        return 'in %s%.6g, %.6g%s' % ('(' if self.lo_open else '[', self.lo, self.hi, ')' if self.hi_open else ']')
+
+
+Field = collections.namedtuple('Field', 'unit meaning allowed')
+
+#: Unit, meaning and allowed values of every field of CASE_DEFAULTS (allowed: an Interval, or the
+#: names the C++ Ip2 accepts): what ``--help`` lists and :func:`normalize_case` checks.  The liquid
+#: ranges are those of Ip2_FrictMat_FrictMat_ViscBridgePhys, the bed ranges those of scenes.settling.
+CASE_FIELDS = dict(
+    n=Field('', 'number of spheres', Interval(1)),
+    radius=Field('m', 'mean sphere radius', Interval(0, lo_open=True)),
+    sizeRatio=Field('', 'max/min radius of the uniform radius distribution', Interval(1, 5)),
+    density=Field('kg/m³', 'solid density', Interval(0, lo_open=True)),
+    young=Field('Pa', "Young's modulus", Interval(0, lo_open=True)),
+    poisson=Field('', "Poisson's ratio", Interval(-1, 0.5, True, True)),
+    friction=Field('rad', 'friction angle', Interval(0)),
+    seed=Field('', 'random seed of the bed and of the perturbation', Interval()),
+    viscosity=Field('Pa·s', 'liquid viscosity (0: dry)', Interval(0)),
+    sMinRel=Field('', 'minimum gap S_min over the reduced radius', Interval(0, 1, lo_open=True)),
+    bridgeVolumeRel=Field('', 'bridge volume over the mean particle volume', Interval(0, 1, lo_open=True)),
+    contactAngle=Field('rad', 'contact angle', Interval(0, math.pi / 2)),
+    normalModel=Field('', 'normal viscous force', criteria.NORMAL_MODELS),
+    tangentialModel=Field('', 'tangential viscous force', criteria.TANGENTIAL_MODELS),
+    en=Field('', 'restitution coefficient of the dry contact', Interval(0, 1, lo_open=True)),
+    integration=Field('', 'time integration of the viscous forces', criteria.INTEGRATIONS),
+    steps=Field('', 'steps of each trial at a fixed time step', Interval(1)),
+    perturbation=Field('m/s', 'amplitude of the random initial velocities', Interval(0)),
+    tolerance=Field('', 'bisection stops at dt_unstable/dt_stable <= 1 + tolerance', Interval(0, lo_open=True)),
+)
+
+
+class ScanError(Exception):
+    """A scan that cannot go on (missing directory or table, ...): reported as one line."""
+
+
+class CasesFailed(ScanError):
+    """Some cases of a run left no result; `failed` lists (case, error message)."""
+
+    def __init__(self, failed, scan_dir):
+        self.failed = failed
+        lines = ['%d case(s) failed (logs: %s/case-KEY.log; running the scan again retries them):'
+                 % (len(failed), scan_dir)]
+        lines += ['  %s %s: %s' % (case_key(c), _describe(c), error) for c, error in failed]
+        super().__init__('\n'.join(lines))
+
+
+def _describe(case):
+    """The fields of a case that differ from the defaults, as FIELD=VALUE."""
+    changed = ['%s=%r' % (k, v) for k, v in case.items() if v != CASE_DEFAULTS[k]]
+    return ' '.join(changed) or '(defaults)'
+
+
+def _check_known(fields):
+    unknown = set(fields) - set(CASE_DEFAULTS)
     if unknown:
         raise ValueError('scan case: unknown field(s) %s; allowed: %s' % (', '.join(sorted(unknown)), ', '.join(CASE_DEFAULTS)))
-    out = dict(CASE_DEFAULTS)
-    out.update(case)
-    for k in ('n', 'steps', 'seed'):
-        if int(out[k]) != out[k]:
-            raise ValueError('scan case: %s=%r is out of range; allowed: an integer' % (k, out[k]))
-        out[k] = int(out[k])
-    checks = (('n', 1, None), ('steps', 1, None), ('radius', 0, None), ('density', 0, None), ('young', 0, None),
-              ('tolerance', 0, None), ('perturbation', None, None), ('viscosity', None, None))
-    for k, above, _ in checks:
-        v = out[k]
-        if not isinstance(v, (int, float)) or not math.isfinite(v) or (above is not None and not v > above) or v < 0:
-            raise ValueError('scan case: %s=%r is out of range; allowed: %s' % (k, v, '> %g' % above if above is not None else '>= 0'))
-    if not 1 <= out['sizeRatio'] <= 5:
-        raise ValueError('scan case: sizeRatio=%r is out of range; allowed: [1, 5]' % (out['sizeRatio'],))
-    if out['integration'] not in ('explicit', 'implicit'):
-        raise ValueError("scan case: integration=%r is out of range; allowed: 'explicit', 'implicit'" % (out['integration'],))
+
+
+def _number(value, kind):
+    """value as a plain `kind` (int or float), or None when it is not a finite number of that kind
+    (numpy scalars are numbers; bool and str are not)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        return None
+    try:
+        x = float(value)
+    except OverflowError:
+        return None
+    if not math.isfinite(x):
+        return None
+    if kind is int:
+        return int(value) if x == int(x) else None
+    return x
+
+
+def _allowed(name):
+    """What field `name` accepts, in words (without the unit)."""
+    allowed = CASE_FIELDS[name].allowed
+    if not isinstance(allowed, Interval):
+        return ', '.join(repr(a) for a in allowed)
+    kind = 'an integer' if isinstance(CASE_DEFAULTS[name], int) else 'a number'
+    return kind if allowed == Interval() else '%s %s' % (kind, allowed)
+
+
+def _checked(name, value):
+    """value of field `name` converted to its default's type (so that 1 and 1.0 are one case), or ValueError."""
+    field = CASE_FIELDS[name]
+    if isinstance(field.allowed, Interval):
+        x = _number(value, type(CASE_DEFAULTS[name]))
+        if x is not None and x in field.allowed:
+            return x
+    elif isinstance(value, str) and value in field.allowed:
+        return value
+    unit = ' [%s]' % field.unit if field.unit else ''
+    raise ValueError('scan case: %s=%r is out of range; allowed: %s%s' % (name, value, _allowed(name), unit))
+
+
+def _check_with_ip2(case):
+    """Inside YADE the C++ functor has the last word on the liquid fields (ValueError naming the
+    field).  YADE is not imported for this: the driver of a scan runs in plain Python."""
+    wrapper = sys.modules.get('yade.wrapper')
+    ip2 = getattr(wrapper, 'Ip2_FrictMat_FrictMat_ViscBridgePhys', None)
+    if ip2 is not None:
+        ip2(**{k: case[k] for k in _LIQUID_KEYS})
+
+
+def normalize_case(case):
+    """The case with defaults filled in and every value of its default's type; ValueError naming
+    the field on unknown fields and on values out of range."""
+    _check_known(case)
+    out = {name: _checked(name, value) for name, value in dict(CASE_DEFAULTS, **case).items()}
+    _check_with_ip2(out)
     return out
 
 
@@ -74,24 +193,28 @@ def case_key(case):
     return hashlib.sha1(text.encode()).hexdigest()[:16]
 
 
+def unique_cases(cases):
+    """The cases normalized, each once (the first of equal ones, in order)."""
+    out = {}
+    for c in cases:
+        c = normalize_case(c)
+        out.setdefault(case_key(c), c)
+    return list(out.values())
+
+
 def one_at_a_time(base, **variations):
     """The base case, then each listed value of each field with the others at the base values."""
+    _check_known(variations)
     base = normalize_case(base)
-    cases, seen = [base], {case_key(base)}
-    for field, values in variations.items():
-        for v in values:
-            c = dict(base, **{field: v})
-            if case_key(c) not in seen:
-                seen.add(case_key(c))
-                cases.append(normalize_case(c))
-    return cases
+    return unique_cases([base] + [dict(base, **{field: v}) for field, values in variations.items() for v in values])
 
 
 def grid(base=None, **axes):
     """The cartesian product of the listed values (other fields from `base`)."""
+    _check_known(axes)
     base = normalize_case(base or {})
     names = list(axes)
-    return [normalize_case(dict(base, **dict(zip(names, values)))) for values in itertools.product(*(axes[n] for n in names))]
+    return unique_cases(dict(base, **dict(zip(names, values))) for values in itertools.product(*(axes[n] for n in names)))
 
 
 # ------------------------------------------------------------------------------------------------
@@ -304,13 +427,19 @@ def _table_value(v):
 
 
 def write_table(cases, path, scan_dir):
-    """A yade-batch table: one line per case (columns: every case field, plus scanDir)."""
+    """A yade-batch table: one line per case (columns: every case field, plus scanDir).  Every case
+    is checked before the file is touched, and the file is replaced whole."""
     fields = list(CASE_DEFAULTS)
-    with open(path, 'w') as fh:
-        fh.write(' '.join(['description'] + fields + ['scanDir']) + '\n')
-        for c in cases:
-            c = normalize_case(c)
-            fh.write(' '.join([case_key(c)] + [_table_value(c[f]) for f in fields] + [repr(os.path.abspath(scan_dir))]) + '\n')
+    scan_dir = os.path.abspath(scan_dir)
+    if re.search(r'\s', scan_dir):  # the table's columns are separated by white space
+        raise ValueError('scan directory %r: a path with white space cannot go into a yade-batch table' % scan_dir)
+    lines = [' '.join(['description'] + fields + ['scanDir'])]
+    for c in unique_cases(cases):
+        lines.append(' '.join([case_key(c)] + [_table_value(c[f]) for f in fields] + [repr(scan_dir)]))
+    tmp = path + '.part'
+    with open(tmp, 'w') as fh:
+        fh.write('\n'.join(lines) + '\n')
+    os.replace(tmp, path)
     return path
 
 
@@ -319,33 +448,114 @@ JOB_SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'scan_job.
 
 def run_cases(cases, scan_dir, jobs=2, progress=True):
     """Run every case not yet in scan_dir/results.jsonl, `jobs` at a time, through yade-batch.
-    Returns the list of all results (old and new)."""
+    Returns the list of all results (old and new).
+
+    scan_dir/cases.table gets the whole scan (what :func:`slurm_script` submits), scan_dir/todo.table
+    the cases still to run (what yade-batch runs).  Raises CasesFailed when cases left no result or
+    yade-batch reports them failed; KeyboardInterrupt (also on SIGTERM or SIGHUP) once yade-batch and
+    its jobs are stopped."""
     if not (isinstance(jobs, int) and jobs >= 1):
         raise ValueError('run_cases: jobs=%r is out of range; allowed: integer >= 1' % (jobs,))
+    cases = unique_cases(cases)
     scan_dir = os.path.abspath(scan_dir)
     os.makedirs(scan_dir, exist_ok=True)
+    write_table(cases, os.path.join(scan_dir, 'cases.table'), scan_dir)
     results = ResultsFile(os.path.join(scan_dir, 'results.jsonl'))
     done = results.done_keys()
-    todo = [normalize_case(c) for c in cases if case_key(c) not in done]
+    todo = [c for c in cases if case_key(c) not in done]
     if progress:
         print('scan: %d cases, %d already done, %d to run' % (len(cases), len(cases) - len(todo), len(todo)), file=sys.stderr)
     if todo:
-        table = write_table(todo, os.path.join(scan_dir, 'cases.table'), scan_dir)
-        # per-case logs beside the results (yade-batch's default puts them beside the job script,
-        # inside the installed package); relative, since yade-batch runs in scan_dir
-        cmd = ['yade-batch', '--job-threads=1', '-j', str(jobs), '--log', 'case-@.log', table, JOB_SCRIPT]
-        with open(os.path.join(scan_dir, 'yade-batch.log'), 'a') as log:
-            proc = subprocess.Popen(cmd, cwd=scan_dir, stdout=log, stderr=subprocess.STDOUT)
-            bar = _progress(len(todo)) if progress else None
-            while proc.poll() is None:
-                time.sleep(2)
-                if bar:
-                    bar(len(results.done_keys() - done))
-            if bar:
-                bar(len(results.done_keys() - done), final=True)
-        if proc.returncode != 0:
-            raise RuntimeError('yade-batch failed (exit %d); see %s' % (proc.returncode, os.path.join(scan_dir, 'yade-batch.log')))
+        reported = _run_batch(write_table(todo, os.path.join(scan_dir, 'todo.table'), scan_dir), scan_dir, jobs,
+                              _progress(len(todo)) if progress else None, lambda: len(results.done_keys() - done))
+        failed = _failures(todo, results.done_keys(), reported, scan_dir)
+        if failed:
+            raise CasesFailed(failed, scan_dir)
     return results.read()
+
+
+def _run_batch(table, scan_dir, jobs, bar, finished):
+    """Run yade-batch on `table`; returns the descriptions (case keys) of the jobs it reports failed."""
+    # per-case logs beside the results (yade-batch's default puts them beside the job script,
+    # inside the installed package); relative, since yade-batch runs in scan_dir
+    cmd = ['yade-batch', '--job-threads=1', '-j', str(jobs), '--log', 'case-@.log', table, JOB_SCRIPT]
+    log_path = os.path.join(scan_dir, 'yade-batch.log')
+    with open(log_path, 'ab') as log:
+        start = log.tell()  # the log is appended to by every run: this run's part starts here
+        # its own session: Ctrl-C in a terminal reaches this process only, which stops the whole
+        # group (yade-batch and its jobs) and then reports
+        proc = subprocess.Popen(cmd, cwd=scan_dir, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
+        try:
+            with _signals(_interrupt):
+                while proc.poll() is None:
+                    time.sleep(2)
+                    if bar:
+                        bar(finished())
+        finally:
+            if proc.returncode is None:
+                with _signals(signal.SIG_IGN):  # a second Ctrl-C must not leave the jobs running
+                    _stop_group(proc)
+            if bar:
+                bar(finished(), final=True)
+    with open(log_path, 'rb') as fh:
+        fh.seek(start)
+        output = fh.read().decode(errors='replace')
+    return set(re.findall(r'^#\d+ \((\w+)\) FAILED', output, re.M))
+
+
+def _interrupt(signum, frame):
+    raise KeyboardInterrupt(signal.Signals(signum).name)
+
+
+@contextlib.contextmanager
+def _signals(handler):
+    """Within: SIGINT, SIGTERM and SIGHUP go to `handler` unless ignored (only the main thread can
+    set handlers)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)}
+    for s, h in old.items():
+        if h is not signal.SIG_IGN:  # an ignored signal stays ignored (nohup, a background job)
+            signal.signal(s, handler)
+    try:
+        yield
+    finally:
+        for s, h in old.items():
+            signal.signal(s, signal.SIG_DFL if h is None else h)
+
+
+def _stop_group(proc, grace=5.0):
+    """Stop yade-batch and the jobs it started (its process group): SIGTERM, then SIGKILL for
+    whatever outlives `grace` seconds."""
+    os.killpg(proc.pid, signal.SIGTERM)
+    deadline = time.monotonic() + grace
+    # wait without reaping: while yade-batch is not reaped its group id cannot be taken by another
+    while time.monotonic() < deadline and os.waitid(os.P_PID, proc.pid, os.WEXITED | os.WNOHANG | os.WNOWAIT) is None:
+        time.sleep(0.1)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait()
+
+
+def _failures(todo, done, reported, scan_dir):
+    """(case, error) for each case of `todo` without a result or reported failed by yade-batch."""
+    failed = []
+    for c in todo:
+        key = case_key(c)
+        if key not in done or key in reported:
+            error = _log_error(os.path.join(scan_dir, 'case-%s.log' % key))
+            failed.append((c, error if key not in done else 'wrote its result, then failed: ' + error))
+    return failed
+
+
+def _log_error(path):
+    """The error a case log ends with (its last exception line, else its last line)."""
+    if not os.path.exists(path):
+        return 'not started (no %s; see yade-batch.log)' % os.path.basename(path)
+    with open(path, errors='replace') as fh:
+        lines = [line.strip() for line in fh if line.strip()]
+    errors = [line for line in lines if re.match(r'[\w.]*(Error|Exception|Interrupt)\b', line)]
+    return (errors or lines or ['no result and an empty log'])[-1]
 
 
 def _progress(total):
@@ -364,11 +574,17 @@ def _progress(total):
         return update
 
 
+def _scan_dir(scan_dir):
+    if not os.path.isdir(scan_dir):
+        raise ScanError('no such scan directory: %s' % scan_dir)
+    return scan_dir
+
+
 def collect(scan_dir):
     """Write scan_dir/results.csv from results.jsonl (latest result per case) and return the rows."""
     import csv
     rows = {}
-    for r in ResultsFile(os.path.join(scan_dir, 'results.jsonl')).read():
+    for r in ResultsFile(os.path.join(_scan_dir(scan_dir), 'results.jsonl')).read():
         rows[r.get('key')] = r
     rows = list(rows.values())
     if rows:
@@ -383,7 +599,8 @@ def collect(scan_dir):
 SLURM_TEMPLATE = """#!/bin/bash
 # Slurm array job for the ViscBridge scan table {table} ({n} cases).
 # Every task runs one table line with the same job script yade-batch uses; results are appended to
-# {scan_dir}/results.jsonl, so failed or cancelled tasks can simply be resubmitted.
+# {scan_dir}/results.jsonl.  A task whose case is already there ends at once, so the whole array
+# can simply be resubmitted after failed or cancelled tasks.
 #SBATCH --job-name=viscbridge-scan
 #SBATCH --array=2-{last}
 #SBATCH --cpus-per-task=1
@@ -399,7 +616,10 @@ yade -n -x {job}
 
 
 def slurm_script(scan_dir):
-    table = os.path.abspath(os.path.join(scan_dir, 'cases.table'))
+    """Write scan_dir/scan.sbatch, an array job over scan_dir/cases.table (the whole scan)."""
+    table = os.path.abspath(os.path.join(_scan_dir(scan_dir), 'cases.table'))
+    if not os.path.exists(table):
+        raise ScanError('no %s; write it with the "table" or "run" command' % table)
     with open(table) as fh:
         n = sum(1 for line in fh if line.strip()) - 1
     path = os.path.join(scan_dir, 'scan.sbatch')
@@ -423,7 +643,7 @@ def _parse_assignments(items, lists):
     out = {}
     for item in items or []:
         if '=' not in item:
-            raise SystemExit('scan: expected FIELD=VALUE%s, got %r' % (',VALUE...' if lists else '', item))
+            raise ValueError('expected FIELD=VALUE%s, got %r' % (',VALUE...' if lists else '', item))
         k, v = item.split('=', 1)
         out[k] = [_parse_value(x) for x in v.split(',')] if lists else _parse_value(v)
     return out
@@ -437,33 +657,93 @@ def _cases_from_args(args):
     return one_at_a_time(base, **variations)
 
 
-def main(argv=None):
-    p = argparse.ArgumentParser(prog='python3 -m viscbridge.scan', description=__doc__.split('\n\n')[0])
-    sub = p.add_subparsers(dest='command', required=True)
-    for name in ('run', 'table'):
-        s = sub.add_parser(name)
-        s.add_argument('dir')
-        s.add_argument('--base', nargs='*', help='FIELD=VALUE of the base case')
-        s.add_argument('--vary', nargs='*', help='FIELD=V1,V2,... (one at a time, or all combinations with --grid)')
-        s.add_argument('--grid', action='store_true')
+def fields_help():
+    """The list of case fields of --help: name, default, unit, meaning and allowed values."""
+    lines = ['case fields (FIELD=VALUE; the unit is SI, "-" for none):',
+             '  %-16s %-14s %-6s %s' % ('FIELD', 'DEFAULT', 'UNIT', 'MEANING; ALLOWED')]
+    for name, default in CASE_DEFAULTS.items():
+        shown = '%g' % default if isinstance(default, float) else str(default)
+        field = CASE_FIELDS[name]
+        lines.append('  %-16s %-14s %-6s %s; %s' % (name, shown, field.unit or '-', field.meaning, _allowed(name)))
+    return '\n'.join(lines)
+
+
+_COMMANDS = dict(
+    run="run the scan's cases not yet in DIR/results.jsonl through yade-batch",
+    table='only write DIR/cases.table, the yade-batch table of the scan',
+    collect='write DIR/results.csv from DIR/results.jsonl (the latest result per case)',
+    slurm='write DIR/scan.sbatch, a Slurm array job over the whole scan (DIR/cases.table); '
+          'its tasks skip finished cases, so it can be resubmitted as it is',
+)
+
+
+def build_parser():
+    """The command line's parser; every command and option has a help text, and the help of the
+    parser and of `run` and `table` lists the case fields."""
+    fmt = dict(formatter_class=argparse.RawDescriptionHelpFormatter, epilog=fields_help())
+    p = argparse.ArgumentParser(prog='python3 -m viscbridge.scan', description=__doc__.split('\n\n')[0], **fmt)
+    sub = p.add_subparsers(dest='command', required=True, metavar='COMMAND')
+    for name, text in _COMMANDS.items():
+        s = sub.add_parser(name, help=text, description=text, **(fmt if name in ('run', 'table') else {}))
+        s.add_argument('dir', metavar='DIR', help='scan directory' + (' (created if missing)' if name in ('run', 'table') else ''))
+        if name in ('run', 'table'):
+            _add_case_options(s)
         if name == 'run':
-            s.add_argument('-j', '--jobs', type=int, default=os.cpu_count() or 1)
-    sub.add_parser('collect').add_argument('dir')
-    sub.add_parser('slurm').add_argument('dir')
-    args = p.parse_args(argv)
-    if args.command == 'run':
-        rows = run_cases(_cases_from_args(args), args.dir, jobs=args.jobs)
-        collect(args.dir)
-        print('scan: %d results in %s' % (len(rows), os.path.join(os.path.abspath(args.dir), 'results.csv')))
-    elif args.command == 'table':
-        os.makedirs(args.dir, exist_ok=True)
-        print(write_table(_cases_from_args(args), os.path.join(args.dir, 'cases.table'), args.dir))
-    elif args.command == 'collect':
-        rows = collect(args.dir)
-        print('%d results -> %s' % (len(rows), os.path.join(args.dir, 'results.csv')))
-    elif args.command == 'slurm':
-        print(slurm_script(args.dir))
+            s.add_argument('-j', '--jobs', type=int, default=os.cpu_count() or 1,
+                           help='cases run at the same time (default: the number of CPUs, %(default)s)')
+    return p
+
+
+def _add_case_options(parser):
+    parser.add_argument('--base', nargs='*', action='extend', metavar='FIELD=VALUE',
+                        help='fields of the base case (the others at their defaults)')
+    parser.add_argument('--vary', nargs='*', action='extend', metavar='FIELD=V1,V2',
+                        help='values of a field, varied one field at a time from the base case (all combinations with --grid)')
+    parser.add_argument('--grid', action='store_true', help='run every combination of the --vary values')
+
+
+def _run(args):
+    cases = _cases_from_args(args)  # every case is checked before anything is written
+    try:
+        rows = run_cases(cases, args.dir, jobs=args.jobs)
+    finally:
+        if os.path.isdir(args.dir):  # what finished is in results.csv too, whatever happened after
+            collect(args.dir)
+    print('scan: %d results in %s' % (len(rows), os.path.join(os.path.abspath(args.dir), 'results.csv')))
+
+
+def _table(args):
+    cases = _cases_from_args(args)
+    os.makedirs(args.dir, exist_ok=True)
+    print(write_table(cases, os.path.join(args.dir, 'cases.table'), args.dir))
+
+
+def _collect(args):
+    rows = collect(args.dir)
+    if not rows:
+        raise ScanError('no finished case in %s' % os.path.join(args.dir, 'results.jsonl'))
+    print('%d results -> %s' % (len(rows), os.path.join(args.dir, 'results.csv')))
+
+
+def _slurm(args):
+    print(slurm_script(args.dir))
+
+
+def main(argv=None):
+    """The command line; returns the exit status.  Errors are reported on stderr without a traceback."""
+    args = build_parser().parse_args(argv)
+    try:
+        dict(run=_run, table=_table, collect=_collect, slurm=_slurm)[args.command](args)
+    except KeyboardInterrupt:
+        resume = ('; yade-batch stopped, finished cases kept in %s; run the same command again to resume'
+                  % os.path.join(os.path.abspath(args.dir), 'results.jsonl')) if args.command == 'run' else ''
+        print('scan: interrupted%s' % resume, file=sys.stderr)
+        return 130
+    except (ValueError, ScanError, OSError) as e:
+        print('scan: error: %s' % e, file=sys.stderr)
+        return 1
+    return 0
 
 
 if __name__ == '__main__':
-    main()
+    sys.exit(main())

@@ -10,8 +10,13 @@ import viscbridge.scan as scan
 utils.readParamsFromTable(noTableOk=False, scanDir='.', **scan.CASE_DEFAULTS)
 from yade.params import table  # noqa: E402
 
-case = {k: getattr(table, k) for k in scan.CASE_DEFAULTS}
-result = scan.find_critical_dt(case, os.path.join(table.scanDir, 'beds'))
-scan.ResultsFile(os.path.join(table.scanDir, 'results.jsonl')).append(result)
-print('critical dt %.4g s (stable %.4g, unstable %.4g), stepper %.4g s' % (
-    result['dt_critical'], result['dt_stable'], result['dt_unstable'], result['dt_stepper']))
+case = scan.normalize_case({k: getattr(table, k) for k in scan.CASE_DEFAULTS})
+results = scan.ResultsFile(os.path.join(table.scanDir, 'results.jsonl'))
+# a resubmitted Slurm array runs every line of the whole scan again: finished cases end at once
+if scan.case_key(case) in results.done_keys():
+    print('case %s is already in %s: skipped' % (scan.case_key(case), results.path))
+else:
+    result = scan.find_critical_dt(case, os.path.join(table.scanDir, 'beds'))
+    results.append(result)
+    print('critical dt %.4g s (stable %.4g, unstable %.4g), stepper %.4g s' % (
+        result['dt_critical'], result['dt_stable'], result['dt_unstable'], result['dt_stepper']))

@@ -27,7 +27,7 @@ TEST(GoldmanCoefficients, ValuesAtSmallGap)
 }
 
 // At S = r̄ the logarithm vanishes and each coefficient is 6πμ r̄ times its constant.  In particular
-// C_R = +0.2526·6πμ r̄ > 0: with the OCR'd "− 0.2526" it would be negative here (physics.md §2).
+// C_R = +0.2526·6πμ r̄ > 0: with the misprinted "− 0.2526" it would be negative here (physics.md P9, §9).
 TEST(GoldmanCoefficients, ConstantsAtGapEqualReducedRadius)
 {
 	const double rBar = 2e-3, k = 6 * kPi * 1.0 * rBar;

@@ -1,4 +1,4 @@
-"""viscbridge.criteria: the time-step bounds of physics.md §3 (P12–P15), checked number by number.
+"""viscbridge.criteria: the time-step bounds of physics.md §3–§4 (P12–P15), checked number by number.
 
 The module is pure Python; conftest.py boots YADE for the whole directory, which only matters for
 the one cross-check against YADE's own RayleighWaveTimeStep."""
@@ -296,8 +296,8 @@ def test_p14_is_sufficient_on_random_clusters(model):
 
 
 def test_goldman_tangential_pair_needs_the_coupled_bound():
-    # physics.md §3 lists 2m*/C_T and 0.8 m*/C_R; for `goldman` the rotation resistance is C_W and
-    # the exact limit 2/λ_max is ~2.4× below 2m*/C_T at S = 1e-3 r̄: check it by integration.
+    # physics.md P13c: for `goldman` the rotation resistance is C_W, and the exact coupled limit
+    # 2/λ_max is ~2.4× below 2m*/C_T at S = 1e-3 r̄: check it by integration.
     s_min = 1e-3 * R / 2
     crit = C.critical_dt(R, RHO, E, NU, 1.0, tangential_model='goldman', normal_model='none')
     g = C.tangential_coefficients(R, 1.0, s_min)

@@ -6,8 +6,9 @@ import pytest
 from yade import O, utils
 import yade.wrapper as yw
 
+import viscbridge
 import viscbridge.scan as scan
-from wetpairs import R, head_on_pair
+from wetpairs import R, head_on_pair, material
 
 
 def guard():
@@ -80,3 +81,99 @@ def test_moving_wall_work_closes_the_energy_balance():
     E = dict(O.energy.items())
     assert E['boundaryWork'] < 0  # energy put in (YADE's sign, as gravWork)
     assert abs(O.energy.total()) <= 0.01 * abs(E['boundaryWork']), E
+
+
+# --- the guard tells the truth --------------------------------------------------------------------
+def test_a_kick_between_runs_is_a_new_start_not_a_blow_up(bed):
+    """Velocities changed by hand between two O.run() calls: the next run starts from them."""
+    wet_bed(bed, mu=1.0)
+    O.dt = 1e-9
+    O.run(50, True)
+    g = guard()
+    before = g.rebaselines
+    for b in O.bodies:
+        if b.dynamic:
+            b.state.vel = b.state.vel + (0, 0, 0.2)  # an impact: far more energy than the bed had
+    O.run(200, True)
+    assert g.lastError == '' and g.rebaselines > before
+    assert g.checks >= 20
+
+
+def test_rebaseline_by_hand_between_single_steps(bed):
+    wet_bed(bed, mu=1.0)
+    O.dt = 1e-9
+    for _ in range(30):
+        O.step()
+    moved = next(b for b in O.bodies if b.dynamic)
+    moved.state.vel = (0.3, 0, 0)
+    guard().rebaseline()
+    for _ in range(40):
+        O.step()
+    assert guard().lastError == ''
+
+
+def test_a_blow_up_is_still_caught_across_many_short_runs(bed, run_error):
+    """Each new run takes a new reference but keeps the margin of the last check: an instability
+    that grows over many short runs is still stopped."""
+    wet_bed(bed)
+    O.run(1, True)
+    t_v = min(i.phys.mEff / i.phys.viscousStepCoefficient for i in O.interactions if i.isReal and i.phys.bridge)
+    O.dt = 2.2 * t_v  # just above the pair limit: slow growth
+    message = None
+    for _ in range(200):
+        try:
+            O.run(10, True)
+        except RuntimeError as error:
+            message = str(error)
+            break
+        if guard().lastError:
+            message = guard().lastError
+            break
+    assert message and 'ViscBridgeGuard stopped the run' in message
+
+
+def test_washino_energy_gain_is_blamed_on_the_model(run_error):
+    """'washino' is not dissipative: a sphere sliding on a wall without spin gains kinetic energy
+    (physics.md P7).  The guard says so and does not offer the current dt as a remedy."""
+    mat = material()
+    O.bodies.append([utils.wall(0, axis=2, material=mat), utils.sphere((0, 0, R), R, material=mat)])
+    O.bodies[1].state.vel = (0.01, 0, 0)
+    O.engines = viscbridge.engines(gravity=(0, 0, 0), viscosity=1.0, tangentialModel='washino', normalModel='none')
+    O.dt = 1e-8
+    msg = run_error(200000)
+    assert "tangentialModel='washino', which is not dissipative" in msg
+    safe = re.search(r'A safe dt for the current contacts: ([0-9.e+-]+) s', msg)
+    assert safe is None or float(safe.group(1)) < O.dt
+    assert 'a smaller dt is not the remedy' in msg
+
+
+def test_clumps_are_accepted_with_explicit_integration():
+    mat = material()
+    O.bodies.append(utils.wall(0, axis=2, material=mat))
+    O.bodies.appendClumped([utils.sphere((0, 0, 1.001 * R), R, material=mat), utils.sphere((0, 1.5 * R, 1.001 * R), R, material=mat)])
+    O.engines = viscbridge.engines(viscosity=1.0)
+    O.dt = 1e-8
+    O.run(3000, True)
+    assert guard().lastError == '' and guard().checks > 100
+    assert all(math.isfinite(c) for b in O.bodies for c in b.state.pos)
+
+
+def test_clumps_are_refused_before_the_first_implicit_step(run_error):
+    mat = material()
+    O.bodies.append(utils.wall(0, axis=2, material=mat))
+    O.bodies.appendClumped([utils.sphere((0, 0, 1.001 * R), R, material=mat), utils.sphere((0, 1.5 * R, 1.001 * R), R, material=mat)])
+    O.engines = viscbridge.engines(viscosity=1.0, integration='implicit')
+    O.dt = 1e-6
+    msg = run_error(10)
+    assert 'is a clump' in msg and "integration='explicit'" in msg
+    assert O.iter == 0
+
+
+def test_the_implicit_solver_refuses_clumps_without_a_guard(run_error):
+    mat = material()
+    O.bodies.append(utils.wall(0, axis=2, material=mat))
+    O.bodies.appendClumped([utils.sphere((0, 0, 0.999 * R), R, material=mat), utils.sphere((0, 1.5 * R, 0.999 * R), R, material=mat)])
+    O.engines = viscbridge.engines(viscosity=1.0, integration='implicit', guard=False)
+    O.dt = 1e-6
+    assert 'clump' in run_error(10)
+    assert all(b.state.pos[2] < 2 * R for b in O.bodies if b.isClumpMember)  # nothing flew off

@@ -176,9 +176,14 @@ def test_missing_solver_without_guard_stops_at_the_next_step(run_error):
 
 
 def test_washino_cannot_be_implicit(run_error):
-    head_on_pair(1e-5 * R, 0.1, viscosity=1.0, tangentialModel='washino', integration='implicit')
+    with pytest.raises(ValueError, match="washino.*not dissipative"):  # refused when the engines are built
+        head_on_pair(1e-5 * R, 0.1, viscosity=1.0, tangentialModel='washino', integration='implicit')
+    O.reset()
+    head_on_pair(1e-5 * R, 0.1, viscosity=1.0, integration='implicit')
+    next(e for e in O.engines if isinstance(e, yw.InteractionLoop)).physDispatcher.functors[0].tangentialModel = 'washino'
     O.dt = 1e-8
-    assert re.search("washino.*not dissipative", run_error(3))
+    assert re.search("washino.*not dissipative", run_error(3))  # and set afterwards: before the first step
+    assert O.iter == 0
 
 
 def test_solver_parameters_are_validated():

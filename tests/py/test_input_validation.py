@@ -155,3 +155,81 @@ def test_scan_case_fields(kw, name):
 def test_scan_jobs(tmp_path):
     with pytest.raises(ValueError, match='jobs'):
         scan.run_cases([], str(tmp_path), jobs=0)
+
+
+# --- bodies the law cannot handle: refused before they can give dt = 0, NaN or time running back ---
+@pytest.mark.parametrize('radius', [0.0, -R, float('nan')])
+@pytest.mark.parametrize('with_guard', [True, False])
+def test_bad_sphere_radius_is_refused_before_a_step(radius, with_guard, run_error):
+    mat = material()
+    O.bodies.append([utils.wall(0, axis=2, material=mat), utils.sphere((0, 0, 1.001 * R), R, material=mat)])
+    O.bodies[1].shape.radius = radius
+    O.engines = viscbridge.engines(viscosity=1.0, guard=with_guard)
+    O.dt = 1e-7
+    msg = run_error(5)
+    assert re.search(r'Body #1: Sphere\.radius=(0|-0\.0005|nan) is out of range; allowed: > 0', msg), msg
+    assert O.time <= 1e-7 and all(math.isfinite(c) for b in O.bodies for c in b.state.pos)
+
+
+def test_zero_mass_is_refused(run_error):
+    mat = material()
+    O.bodies.append([utils.wall(0, axis=2, material=mat), utils.sphere((0, 0, 1.001 * R), R, material=mat)])
+    O.bodies[1].state.mass = 0
+    O.engines = viscbridge.engines(viscosity=1.0)
+    O.dt = 1e-7
+    assert 'State.mass=0 is out of range' in run_error(5)
+
+
+def test_time_step_update_interval_zero_is_an_error_not_a_crash(run_error):
+    small_scene()
+    next(e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper)).timeStepUpdateInterval = 0
+    assert 'ViscBridgeTimeStepper.timeStepUpdateInterval=0 is out of range; allowed: >= 1' in run_error(3)
+
+
+def test_a_replaced_interaction_loop_is_checked_again(run_error):
+    """Swapping the InteractionLoop for one with another Ip2 after the first steps (same number of
+    engines) is caught before YADE's interaction loop would exit() on it."""
+    small_scene()
+    O.run(3, True)
+    idx = [type(e) for e in O.engines].index(yw.InteractionLoop)
+    loop = O.engines[idx]
+    engines = list(O.engines)
+    engines[idx] = yw.InteractionLoop(list(loop.geomDispatcher.functors), [yw.Ip2_FrictMat_FrictMat_MindlinPhys()],
+                                      list(loop.lawDispatcher.functors))
+    O.engines = engines
+    assert 'needs Ip2_FrictMat_FrictMat_ViscBridgePhys' in run_error(3)
+
+
+@pytest.mark.parametrize('kw,name', [
+    (dict(viscosity='1'), 'viscosity'), (dict(normalModel=None), 'normalModel'), (dict(sMin=[1]), 'sMin'),
+    (dict(viscosity=True), 'viscosity'), (dict(guard='no'), 'guard'), (dict(timeStepper=1), 'timeStepper'),
+    (dict(safety='0.5'), 'safety'), (dict(gravity=(0, 0, '9.81')), 'gravity'), (dict(label_prefix=3), 'label_prefix'),
+])
+def test_engines_wrong_types_name_the_parameter(kw, name):
+    with pytest.raises(ValueError, match=name):
+        viscbridge.engines(**kw)
+
+
+def test_implicit_washino_is_refused_when_the_engines_are_built():
+    with pytest.raises(ValueError, match="tangentialModel='washino'.*not dissipative"):
+        viscbridge.engines(integration='implicit', tangentialModel='washino')
+
+
+@pytest.mark.parametrize('kw,name', [
+    (dict(initialSpeed=float('nan')), 'initialSpeed'), (dict(n=2.5), 'n'), (dict(n=True), 'n'), (dict(radius='1e-3'), 'radius'),
+    (dict(periodic='yes'), 'periodic'), (dict(seed=1.5), 'seed'), (dict(integration='rk4'), 'integration'),
+    (dict(cloudFraction=0.5), 'cloudFraction'), (dict(width=float('inf')), 'width'),
+])
+def test_settling_wrong_values_name_the_parameter(kw, name):
+    with pytest.raises(ValueError, match=name):
+        scenes.settling(**dict(dict(n=20), **kw))
+
+
+@pytest.mark.parametrize('args,kw,name', [
+    ((0.5e-3, 2500, 1e7, 0.3, '1'), {}, 'viscosity'), ((0.5e-3, 2500, 1e7, 0.3, True), {}, 'viscosity'),
+    (('0.5e-3', 2500, 1e7, 0.3, 1.0), {}, 'radius'), ((0.5e-3, 2500, 1e7, 0.3, 1.0), dict(coordination='6'), 'coordination'),
+])
+def test_criteria_wrong_types_name_the_parameter(args, kw, name):
+    from viscbridge import criteria
+    with pytest.raises(ValueError, match=name):
+        criteria.critical_dt(*args, **kw)

@@ -13,7 +13,7 @@ struct GoldmanCoefficients {
 };
 
 // C_T = 6πμ r̄ [(8/15) ln(r̄/S) + 0.9588]            (P8)
-// C_R = 6πμ r̄ [(2/15) ln(r̄/S) + 0.2526]            (P9; + sign, physics.md: the OCR'd paper's − is a misprint)
+// C_R = 6πμ r̄ [(2/15) ln(r̄/S) + 0.2526]            (P9; + sign: the published paper prints −, a misprint, physics.md §9)
 // C_W = 6πμ r̄ [(8/15) ln(r̄/S) + 0.5089]            (goldman model, physics.md §2)
 // S is the clamped gap max(S, S_min) (P6).
 inline GoldmanCoefficients goldmanCoefficients(double sixPiMuR, double rBar, double S)

@@ -1,0 +1,129 @@
+"""Liquid bridges for ParaView, beside YADE's own VTKRecorder output.
+
+    from yade import O
+    import viscbridge.vtk
+    O.engines = O.engines + [viscbridge.vtk.bridge_recorder('out/wet-', iterPeriod=1000)]
+
+writes ``out/wet-bridges.<iter>.vtp`` (VTK XML PolyData) and ``out/wet-bridges.pvd``, the time
+series ParaView opens in one go (File ▸ Open ▸ ``wet-bridges.pvd``).  Every ViscBridge interaction
+is a line from body 1 to body 2 — sphere centres, or the foot of the bridge on a wall, facet or
+box — with its state as cell data: ``bridge`` (1 while a liquid bridge exists), ``gap`` S [m],
+``cn``, ``ct`` [N·s/m], the viscous and contact forces on body 1 [N] (``normalViscousForce``,
+``shearViscousForce``, ``normalContactForce``, ``shearContactForce``), ``viscousForce`` (the
+magnitude of the viscous force) and the body ids.  Load it with YADE's ``VTKRecorder`` files
+(spheres, walls) to colour the bridges of a packing by their gap or force.
+"""
+import math
+import os
+import xml.etree.ElementTree as ET
+
+__all__ = ['write_bridges', 'BridgeSeries', 'bridge_recorder']
+
+_VECTORS = ('normalViscousForce', 'shearViscousForce', 'normalContactForce', 'shearContactForce')
+
+
+def _bridges(only_bridges):
+    """(end1, end2, phys, interaction) of every ViscBridge interaction (with a bridge, if asked)."""
+    from yade import O, Vector3
+    import yade.wrapper as yw
+    out = []
+    for i in O.interactions:
+        if not i.isReal or not isinstance(i.phys, yw.ViscBridgePhys) or (only_bridges and not i.phys.bridge):
+            continue
+        ph, n, gap = i.phys, i.geom.normal, -i.geom.penetrationDepth
+        p1 = O.bodies[i.id1].state.pos
+        p2 = O.bodies[i.id2].state.pos + (O.cell.hSize * Vector3(*i.cellDist) if O.periodic else Vector3.Zero)
+        # a sphere's end is its centre; a wall's, facet's or box's the point of its surface facing the sphere
+        if ph.radius1 <= 0:
+            p1 = p2 - n * (ph.radius2 + gap)
+        elif ph.radius2 <= 0:
+            p2 = p1 + n * (ph.radius1 + gap)
+        out.append((p1, p2, ph, i))
+    return out
+
+
+def _array(parent, name, values, components=1, kind='Float64'):
+    a = ET.SubElement(parent, 'DataArray', type=kind, Name=name, format='ascii')
+    if components > 1:
+        a.set('NumberOfComponents', str(components))
+    a.text = ' '.join(repr(float(v)) if kind == 'Float64' else str(int(v)) for v in values)
+
+
+def write_bridges(path, only_bridges=False):
+    """Write the current ViscBridge interactions of O to `path` (.vtp); returns their number."""
+    rows = _bridges(only_bridges)
+    root = ET.Element('VTKFile', type='PolyData', version='0.1', byte_order='LittleEndian')
+    piece = ET.SubElement(ET.SubElement(root, 'PolyData'), 'Piece', NumberOfPoints=str(2 * len(rows)),
+                          NumberOfLines=str(len(rows)), NumberOfVerts='0', NumberOfStrips='0', NumberOfPolys='0')
+    _array(ET.SubElement(piece, 'Points'), 'Points', [c for a, b, _, _ in rows for c in (*a, *b)], 3)
+    lines = ET.SubElement(piece, 'Lines')
+    _array(lines, 'connectivity', range(2 * len(rows)), kind='Int64')
+    _array(lines, 'offsets', range(2, 2 * len(rows) + 1, 2), kind='Int64')
+    cells = ET.SubElement(piece, 'CellData', Scalars='gap')
+    _array(cells, 'bridge', [ph.bridge for _, _, ph, _ in rows], kind='Int32')
+    _array(cells, 'gap', [ph.separation for _, _, ph, _ in rows])
+    _array(cells, 'cn', [ph.cn for _, _, ph, _ in rows])
+    _array(cells, 'ct', [ph.ct for _, _, ph, _ in rows])
+    for name in _VECTORS:
+        _array(cells, name, [c for _, _, ph, _ in rows for c in getattr(ph, name)], 3)
+    _array(cells, 'viscousForce', [(ph.normalViscousForce + ph.shearViscousForce).norm() for _, _, ph, _ in rows])
+    _array(cells, 'id1', [i.id1 for _, _, _, i in rows], kind='Int64')
+    _array(cells, 'id2', [i.id2 for _, _, _, i in rows], kind='Int64')
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    tmp = path + '.part'
+    ET.ElementTree(root).write(tmp, xml_declaration=True, encoding='utf-8')
+    os.replace(tmp, path)
+    return len(rows)
+
+
+class BridgeSeries:
+    """Files ``<prefix>bridges.<iter>.vtp`` and the collection ``<prefix>bridges.pvd`` that gives
+    ParaView their simulated times."""
+
+    def __init__(self, prefix, only_bridges=False):
+        self.prefix, self.only_bridges, self.steps = prefix, only_bridges, []
+
+    @property
+    def collection(self):
+        return self.prefix + 'bridges.pvd'
+
+    def record(self):
+        from yade import O
+        path = '%sbridges.%010d.vtp' % (self.prefix, O.iter)
+        write_bridges(path, self.only_bridges)
+        if not (self.steps and self.steps[-1][1] == path):
+            self.steps.append((O.time, path))
+        self._write_collection()
+        return path
+
+    def _write_collection(self):
+        root = ET.Element('VTKFile', type='Collection', version='0.1', byte_order='LittleEndian')
+        coll = ET.SubElement(root, 'Collection')
+        base = os.path.dirname(os.path.abspath(self.collection))
+        for t, path in self.steps:
+            ET.SubElement(coll, 'DataSet', timestep=repr(t) if math.isfinite(t) else '0', group='', part='0',
+                          file=os.path.relpath(os.path.abspath(path), base))
+        tmp = self.collection + '.part'
+        ET.ElementTree(root).write(tmp, xml_declaration=True, encoding='utf-8')
+        os.replace(tmp, self.collection)
+
+
+_SERIES = {}
+
+
+def bridge_recorder(prefix, iterPeriod=None, virtPeriod=None, only_bridges=False):
+    """A PyRunner writing the bridges every `iterPeriod` steps (or `virtPeriod` seconds of simulated
+    time) to ``<prefix>bridges.*.vtp`` and ``<prefix>bridges.pvd``; append it to O.engines."""
+    import yade.wrapper as yw
+    from . import _checks
+    if (iterPeriod is None) == (virtPeriod is None):
+        raise ValueError('bridge_recorder: give exactly one of iterPeriod=... (steps) or virtPeriod=... [s]')
+    if not isinstance(prefix, str) or not prefix:
+        _checks.reject('bridge_recorder', 'prefix', prefix, 'a non-empty path prefix')
+    _SERIES[prefix] = BridgeSeries(prefix, only_bridges)
+    command = 'import viscbridge.vtk; viscbridge.vtk._SERIES[%r].record()' % prefix
+    if iterPeriod is not None:
+        return yw.PyRunner(iterPeriod=_checks.integer('bridge_recorder', 'iterPeriod', iterPeriod, minimum=1), command=command,
+                           initRun=True)
+    return yw.PyRunner(virtPeriod=_checks.positive('bridge_recorder', 'virtPeriod', virtPeriod, ' [s]'), command=command,
+                       initRun=True)
