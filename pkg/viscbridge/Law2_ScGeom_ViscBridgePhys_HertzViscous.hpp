@@ -1,8 +1,10 @@
 // Law2_ScGeom_ViscBridgePhys_HertzViscous: Hertz–Mindlin contact with Coulomb friction plus the
-// viscous liquid-bridge forces selected for the interaction (physics.md §2), with energy tracking.
+// liquid-bridge forces selected for the interaction (physics.md §2, §8), with energy tracking.  Each
+// interaction runs the kernel compiled for its models (physics/SubModels.hpp).
 #pragma once
 #include "ViscBridgePhys.hpp"
 #include <core/Dispatching.hpp>
+#include <lib/base/openmp-accu.hpp>
 #include <pkg/dem/ScGeom.hpp>
 #include <atomic>
 
@@ -14,7 +16,10 @@ class Law2_ScGeom_ViscBridgePhys_HertzViscous : public LawFunctor {
 public:
 	// Energy slots in scene->energy (resolved on first use).
 	int viscDissipNormalIx = -1, viscDissipTangentialIx = -1, viscDissipRotationalIx = -1, contactDampDissipIx = -1, plastDissipIx = -1,
-	    elastPotentialIx = -1;
+	    elastPotentialIx = -1, capillaryWorkIx = -1;
+	// −(work of the capillary forces) since the law was created, with or without energy tracking:
+	// ViscBridgeGuard counts it as energy put in (physics.md P21, E5).
+	OpenMPAccumulator<Real> capillaryWork;
 	int integrationIndex = 0; // parsed `integration`
 	// Whether O.engines has a ViscBridgeImplicitSolver, checked once per step.
 	std::atomic<long> solverCheckedIter { -1 };
@@ -36,12 +41,14 @@ public:
 		"is a contact or a bridge; a bridge forms at contact (or within formationDistance) and "
 		"ruptures beyond $S_{rup}$ (P11).\n\n"
 		"Only the selected effects are evaluated: each interaction runs a kernel compiled for its "
-		"combination of models, so an unselected effect costs nothing.\n\n"
+		"combination of models, so an unselected effect costs nothing. The capillary force "
+		"(:yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys.capillaryModel`) is always explicit: it depends on the "
+		"gap only and is part of the other forces of the implicit solve.\n\n"
 		"With :yref:`O.trackEnergy<Omega.trackEnergy>`, adds to ``O.energy``: ``viscDissipNormal``, "
 		"``viscDissipTangential`` (sliding part of the tangential dissipation), "
 		"``viscDissipRotational`` (the part that resists rolling; negative only with 'washino', which "
-		"is not dissipative), ``contactDampDissip`` (with en<1), ``plastDissip`` (friction) — all "
-		"cumulative — and ``elastPotential`` (current Hertz–Mindlin elastic energy). The viscous "
+		"is not dissipative), ``contactDampDissip`` (with en<1), ``plastDissip`` (friction), ``capillaryWork`` (minus the work "
+		"of the capillary forces, P21) — all cumulative — and ``elastPotential`` (current Hertz–Mindlin elastic energy). The viscous "
 		"dissipation of a step is the work of that step's forces, evaluated from the velocities the "
 		"forces were computed with and the velocities that followed ($W=F\\cdot(v_{n-1/2}+v_{n+1/2})/2\\,\\Delta t$, "
 		"booked at the next step, when $v_{n+1/2}$ is known): it matches the kinetic energy YADE's "

@@ -2,7 +2,7 @@
 #include "Ip2_FrictMat_FrictMat_ViscBridgePhys.hpp"
 #include "Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
 #include "ViscBridgeImplicitSolver.hpp"
-#include "physics/ModelNames.hpp"
+#include "physics/SubModels.hpp"
 #include "physics/Validation.hpp"
 #include <core/Clump.hpp>
 #include <core/InteractionLoop.hpp>
@@ -55,9 +55,15 @@ namespace {
 			throw std::invalid_argument("Law2_ScGeom_ViscBridgePhys_HertzViscous.integration='implicit' needs a ViscBridgeImplicitSolver engine between "
 			                            "InteractionLoop and NewtonIntegrator; O.engines has none there (viscbridge.engines(integration='implicit') inserts it).");
 		if (newton && newton->damping != 0) vb::rejectValue("NewtonIntegrator", "damping", newton->damping, "0 with implicit viscous integration");
-		if (f.ip2 && f.ip2->tangentialModel == "washino")
-			throw std::invalid_argument("Ip2_FrictMat_FrictMat_ViscBridgePhys.tangentialModel='washino' is not dissipative (physics.md P7) and cannot be "
-			                            "integrated implicitly; allowed with integration='implicit': 'none', 'slip', 'goldman'.");
+		// checked once here from the models' capabilities, not per bridge per step
+		if (f.ip2 && !vb::TangentialModels::capabilities[f.ip2->selection.tangential].implicitCapable) {
+			std::string allowed;
+			for (std::size_t i = 0; i < vb::TangentialModels::size; ++i)
+				if (vb::TangentialModels::capabilities[i].implicitCapable) allowed += std::string(allowed.empty() ? "'" : ", '") + vb::TangentialModels::names[i] + "'";
+			throw std::invalid_argument("Ip2_FrictMat_FrictMat_ViscBridgePhys.tangentialModel='" + f.ip2->tangentialModel
+			                            + "' is not dissipative (physics.md P7) and cannot be integrated implicitly; allowed with integration='implicit': "
+			                            + allowed + ".");
+		}
 		for (const auto& b : *scene->bodies)
 			if (b && b->isClump())
 				throw std::invalid_argument(bodyName(*b) + " is a clump: ViscBridgeImplicitSolver does not integrate clumps (their members move "

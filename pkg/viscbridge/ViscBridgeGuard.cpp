@@ -3,7 +3,7 @@
 #include "Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
 #include "ViscBridgeImplicitSolver.hpp"
 #include "ViscBridgePhys.hpp"
-#include "physics/ModelNames.hpp"
+#include "physics/SubModels.hpp"
 #include "physics/TimeStepBounds.hpp"
 #include "physics/Validation.hpp"
 #include "SceneValidation.hpp"
@@ -102,6 +102,12 @@ Real ViscBridgeGuard::storedElasticEnergy() const
 }
 
 
+Real ViscBridgeGuard::capillaryWorkSoFar() const
+{
+	const auto* law = findViscBridgeFunctors(scene).law;
+	return law ? Real(law->capillaryWork.get()) : 0;
+}
+
 Real ViscBridgeGuard::mechanicalEnergyNow() const
 {
 	Real e = storedElasticEnergy();
@@ -116,6 +122,7 @@ void ViscBridgeGuard::takeReference(Real slack)
 	for (const auto& b : *scene->bodies)
 		if (b) startPos[b->getId()] = b->state->pos;
 	startEnergy         = mechanicalEnergyNow() + slack;
+	capillaryAtReference = capillaryWorkSoFar();
 	lastSlack           = slack;
 	boundaryWork        = 0;
 	referenceIter       = scene->iter;
@@ -192,7 +199,8 @@ void ViscBridgeGuard::checkEnergy()
 		if (k < nStart) gravityWork += st.mass * gravity.dot(st.pos - startPos[k]);
 	}
 	kineticEnergy = kinetic;
-	energyIn      = startEnergy + std::max<Real>(0, gravityWork + boundaryWork);
+	// what gravity, moving bodies and capillary attraction (minus its booked work, P21) have put in
+	energyIn      = startEnergy + std::max<Real>(0, gravityWork + boundaryWork - (capillaryWorkSoFar() - capillaryAtReference));
 	std::string what;
 	Real        mechanical = 0;
 	if (finite) {
@@ -253,11 +261,13 @@ std::string ViscBridgeGuard::diagnose(Body::id_t worst, const std::string& what)
 	msg << "ViscBridgeGuard stopped the run at step " << scene->iter << " (t = " << scene->time << " s, dt = " << scene->dt << " s): " << what << ".";
 	const bool implicit = viscousIntegrationIsImplicit(scene);
 	const auto functors = findViscBridgeFunctors(scene);
-	const bool washino  = functors.ip2 && functors.ip2->tangentialModel == "washino";
+	// a tangential model that is not dissipative can put energy in by itself (physics.md P7)
+	const bool washino = functors.ip2 && !viscbridge::TangentialModels::capabilities[functors.ip2->selection.tangential].dissipative;
 	bound.evaluate(scene, implicit, 0.4);
 	if (washino)
-		msg << " The scene uses tangentialModel='washino', which is not dissipative (physics.md P7): it can create kinetic energy at any "
-		       "time step, so this gain may be the model's rather than an unstable time step; 'slip' and 'goldman' are dissipative.";
+		msg << " The scene uses tangentialModel='" << functors.ip2->tangentialModel << "', which is not dissipative (physics.md P7): it can "
+		    << "create kinetic energy at any time step, so this gain may be the model's rather than an unstable time step; 'slip' and "
+		       "'goldman' are dissipative.";
 	if (worst >= 0 && Body::byId(worst, scene)) {
 		const Body& b = *Body::byId(worst, scene);
 		msg << " Body #" << worst << " at " << vec(b.state->pos) << ", velocity " << vec(b.state->vel) << ".";

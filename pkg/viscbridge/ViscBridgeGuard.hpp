@@ -11,7 +11,7 @@ class ViscBridgeGuard : public GlobalEngine {
 	std::vector<Vector3r>   startPos;
 	std::vector<Vector3r>   lastPos;   // per body id, at the previous call (kinematic bodies' work)
 	std::vector<Body::id_t> kinematic; // bodies that do not move under forces (walls, fixed ones)
-	Real                    startEnergy = 0, boundaryWork = 0, lastSlack = 0;
+	Real                    startEnergy = 0, boundaryWork = 0, lastSlack = 0, capillaryAtReference = 0;
 	long                    referenceIter = -1;
 	int                     boundaryWorkIx = -1;
 	bool                    referencePending = true; // taken one step after a change, once contacts exist
@@ -32,6 +32,7 @@ class ViscBridgeGuard : public GlobalEngine {
 	void        checkEnergy();
 	Real        storedElasticEnergy() const;
 	Real        mechanicalEnergyNow() const;
+	Real        capillaryWorkSoFar() const; // the law's −(capillary work), cumulative
 	std::string diagnose(Body::id_t worst, const std::string& what);
 	std::string safeStepAdvice(bool implicit, bool washino);
 

@@ -2,6 +2,7 @@
 #include "ViscBridgePhys.hpp"
 #include "physics/ImplicitViscousSystem.hpp"
 #include "physics/Validation.hpp"
+#include "SceneValidation.hpp"
 #include <core/Scene.hpp>
 #include <pkg/dem/NewtonIntegrator.hpp>
 #include <pkg/dem/ScGeom.hpp>
@@ -72,6 +73,11 @@ void ViscBridgeImplicitSolver::action()
 		throw std::invalid_argument(
 		        "ViscBridgeImplicitSolver: NewtonIntegrator.damping=" + vb::formatValue(newton->damping)
 		        + " is out of range with implicit viscous integration; allowed: 0 (numerical damping would move the velocities off the implicit solution).");
+	const size_t signature = sceneSignature(scene);
+	if (signature != validatedSignature) { // e.g. a non-dissipative tangential model, or clumps
+		validateScene(scene, false);
+		validatedSignature = signature;
+	}
 	const Real     dt      = scene->dt;
 	const Vector3r gravity = newton->gravity;
 
@@ -85,10 +91,6 @@ void ViscBridgeImplicitSolver::action()
 		if (!I->isReal()) continue;
 		auto* ph = dynamic_cast<ViscBridgePhys*>(I->phys.get());
 		if (!ph || !ph->bridge || !ph->implicitBlock.valid || ph->implicitBlockIter != scene->iter) continue;
-		const auto& m = ph->implicitBlock.resistance;
-		if (m.m12 != m.m21)
-			throw std::invalid_argument("ViscBridgeImplicitSolver: tangentialModel='washino' is not dissipative (physics.md §2) and cannot be "
-			                            "integrated implicitly; allowed with integration='implicit': 'none', 'slip', 'goldman'.");
 		described.push_back(I.get());
 		owners.push_back(ph);
 		touched[I->getId1()] = touched[I->getId2()] = 1;

@@ -14,6 +14,7 @@ class ViscBridgeImplicitSolver : public GlobalEngine {
 	std::vector<long>                      factorisedPattern;
 	long                                   factorisedIter = -1;
 	int                                    lastIterationsSeen = 0;
+	size_t                                 validatedSignature = 0; // sceneSignature() of the last validated scene
 	Real                  lastValidTolerance = 1e-9;
 	int                   lastValidMaxIterations = 500, lastValidRefresh = 8;
 	std::string           lastValidPreconditioner = "cholesky";

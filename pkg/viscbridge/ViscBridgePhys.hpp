@@ -1,4 +1,4 @@
-// ViscBridgePhys: Hertz–Mindlin contact state plus a viscous liquid bridge (physics.md §2).
+// ViscBridgePhys: Hertz–Mindlin contact state plus a liquid bridge (physics.md §2, §8).
 #pragma once
 #include "physics/PairKernel.hpp"
 #include <pkg/dem/FrictPhys.hpp>
@@ -8,53 +8,35 @@ namespace yade {
 class ViscBridgePhys : public FrictPhys {
 public:
 	virtual ~ViscBridgePhys() = default;
+	// Built from the attributes below when the physics is created and after a scene is loaded
+	// (never saved): the constants the law's kernel reads, and which kernel that is.
+	viscbridge::PairConstants  constants;
+	viscbridge::ModelSelection selection;
+	std::size_t                kernel = 0;
 	// With implicit integration: the bridge's damping as described by the law in step
 	// implicitBlockIter, for ViscBridgeImplicitSolver (not saved: rebuilt every step).
 	viscbridge::ViscousBlock implicitBlock;
 	long                     implicitBlockIter = -1;
-	std::string normalModelName() const;
-	std::string tangentialModelName() const;
+	// The inputs the constants are built from (the attributes below, once they are set).
+	viscbridge::BridgeInputs bridgeInputs() const;
+	// Builds the constants for the models of `s` (whose names the attributes hold).
+	void buildConstants(const viscbridge::ModelSelection& s);
+	// After loading: the models from their saved names (std::invalid_argument for an unknown one).
+	void postLoad(ViscBridgePhys&);
 	// clang-format off
-	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(ViscBridgePhys, FrictPhys,
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR(ViscBridgePhys, FrictPhys,
 		"Physics of a wet contact: Hertz–Mindlin contact (constants of "
-		":yref:`Ip2_FrictMat_FrictMat_MindlinPhys`) and a viscous liquid bridge, created by "
-		":yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys` and evaluated by "
-		":yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous`.\n\n"
-		"Vector forces named ``…ContactForce``/``…ViscousForce`` act on body 1 (body 2 receives the "
-		"opposite force); the inherited :yref:`NormShearPhys.normalForce` and "
+		":yref:`Ip2_FrictMat_FrictMat_MindlinPhys`) and a liquid bridge with its viscous and capillary "
+		"forces, created by :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys` and evaluated by "
+		":yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous`. The models are saved with the scene by name.\n\n"
+		"Vector forces named ``…ContactForce``/``…ViscousForce``/``capillaryForce`` act on body 1 (body 2 "
+		"receives the opposite force); the inherited :yref:`NormShearPhys.normalForce` and "
 		":yref:`NormShearPhys.shearForce` keep YADE's meaning (total force sustained by body 2), so "
-		"YADE's stress and force utilities see contact and viscous forces together.",
-		// contact
-		((Real,kno,0,Attr::readonly,"Hertz coefficient: normal force $F_n=k_{no}\\delta^{3/2}$ [N/m^{3/2}]."))
-		((Real,kso,0,Attr::readonly,"Mindlin coefficient: tangential stiffness $k_s=k_{so}\\delta^{1/2}$ [N/m^{3/2}]."))
-		((Real,betan,0,Attr::readonly,"Normal contact damping ratio (from :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys.en`)."))
-		((Real,betas,0,Attr::readonly,"Tangential contact damping ratio (equal to betan)."))
+		"YADE's stress and force utilities see contact, viscous and capillary forces together.",
+		// what every step reads and writes, first (it shares cache lines with the constants above)
 		((Vector3r,shearElastic,Vector3r::Zero(),Attr::readonly,"Elastic tangential contact force, incrementally updated (YADE sense: sustained by body 2) [N]."))
 		((Real,shearPotential,0,Attr::readonly,"Elastic energy stored in the tangential contact spring, accumulated as $\\sum(|F_s|^2-|F_{s,prev}|^2)/(2k_s)$ while energy is tracked [J]."))
-		// the last step's viscous forces, whose work is accounted at the next step (energy tracking)
-		((bool,workPending,false,Attr::hidden,"A previous step's viscous work is still to be accounted."))
-		((Real,workCn,0,Attr::hidden,"C^n of that step."))
-		((Real,workVn,0,Attr::hidden,"Relative normal velocity of that step."))
-		((Vector3r,workU,Vector3r::Zero(),Attr::hidden,"Tangential relative velocity u of that step."))
-		((Vector3r,workS,Vector3r::Zero(),Attr::hidden,"Rotational term s of that step."))
-		((Vector2r,workM1,Vector2r::Zero(),Attr::hidden,"Resistance row (m11, m12) of that step."))
-		((Vector2r,workM2,Vector2r::Zero(),Attr::hidden,"Resistance row (m21, m22) of that step."))
-		// pair
-		((Real,radius1,0,Attr::readonly,"True radius of body 1; 0 if body 1 is not a sphere (wall, facet, box) [m]."))
-		((Real,radius2,0,Attr::readonly,"True radius of body 2; 0 if body 2 is not a sphere [m]."))
-		((Real,rEff,0,Attr::readonly,"Reduced radius $\\bar r$ (physics.md §1): $r_1r_2/(r_1+r_2)$, or the sphere's radius against a wall [m]."))
-		((Real,mEff,0,Attr::readonly,"Reduced mass $m^*$: $m_1m_2/(m_1+m_2)$, or the dynamic body's mass against a wall or fixed body [kg]."))
-		// bridge
-		((int,normalModel,0,Attr::readonly,"Normal viscous model: 0 none, 1 adamsPerchard (P4), 2 pitois (P5); see normalModelName."))
-		((int,tangentialModel,0,Attr::readonly,"Tangential viscous model: 0 none, 1 washino (P7), 2 slip, 3 goldman; see tangentialModelName."))
-		((Real,viscosity,0,Attr::readonly,"Liquid viscosity $\\mu$ [Pa·s]."))
-		((Real,bridgeVolume,0,Attr::readonly,"Bridge volume $V$ [m³]."))
-		((Real,sMin,0,Attr::readonly,"Minimum gap $S_{min}$ at which the viscous coefficients are evaluated (P6) [m]."))
-		((Real,sRup,0,Attr::readonly,"Rupture distance $S_{rup}=(1+\\theta/2)V^{1/3}$ (P11) [m]."))
-		((Real,formationDistance,0,Attr::readonly,"The bridge forms when $S$ falls below this distance (0: at contact) [m]."))
-		((Real,viscousStepCoefficient,0,Attr::readonly,"$C_n + w_tC_t$ at $S_{min}$: the largest viscous damping of this bridge as the time step sees it (P14; $w_t$ = 3.5, or $1+2.5(1+S_{min}/2r)^2$ for slip) [N·s/m]."))
 		((bool,bridge,false,Attr::readonly,"Whether the liquid bridge exists."))
-		// state of the last step
 		((Real,separation,0,Attr::readonly,"Surface gap $S$ of the last step, negative in overlap [m]."))
 		((Real,cn,0,Attr::readonly,"Normal viscous coefficient $C^n$ of the last step (0 without bridge) [N·s/m]."))
 		((Real,ct,0,Attr::readonly,"Tangential viscous coefficient $C_T$ of the last step (0 without bridge) [N·s/m]."))
@@ -63,10 +45,38 @@ public:
 		((Vector3r,shearContactForce,Vector3r::Zero(),Attr::readonly,"Mindlin tangential contact force on body 1 [N]."))
 		((Vector3r,normalViscousForce,Vector3r::Zero(),Attr::readonly,"Normal viscous bridge force on body 1 (P3) [N]."))
 		((Vector3r,shearViscousForce,Vector3r::Zero(),Attr::readonly,"Tangential viscous bridge force on body 1 [N]."))
+		((Vector3r,capillaryForce,Vector3r::Zero(),Attr::readonly,"Capillary force on body 1, towards body 2 (P19, P20) [N]."))
+		// the last step's forces, whose work is accounted at the next step (physics.md E1)
+		((bool,workPending,false,Attr::hidden,"A previous step's work is still to be accounted."))
+		((Real,workCn,0,Attr::hidden,"C^n of that step."))
+		((Real,workVn,0,Attr::hidden,"Relative normal velocity of that step."))
+		((Vector3r,workU,Vector3r::Zero(),Attr::hidden,"Tangential relative velocity u of that step."))
+		((Vector3r,workS,Vector3r::Zero(),Attr::hidden,"Rotational term s of that step."))
+		((Vector2r,workM1,Vector2r::Zero(),Attr::hidden,"Resistance row (m11, m12) of that step."))
+		((Vector2r,workM2,Vector2r::Zero(),Attr::hidden,"Resistance row (m21, m22) of that step."))
+		((Real,workCapillary,0,Attr::hidden,"Capillary pull of that step."))
+		// the pair and the liquid, fixed when the physics is created
+		((Real,kno,0,Attr::readonly,"Hertz coefficient: normal force $F_n=k_{no}\\delta^{3/2}$ [N/m^{3/2}]."))
+		((Real,kso,0,Attr::readonly,"Mindlin coefficient: tangential stiffness $k_s=k_{so}\\delta^{1/2}$ [N/m^{3/2}]."))
+		((Real,betan,0,Attr::readonly,"Normal contact damping ratio (from :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys.en`)."))
+		((Real,betas,0,Attr::readonly,"Tangential contact damping ratio (equal to betan)."))
+		((Real,radius1,0,Attr::readonly,"True radius of body 1; 0 if body 1 is not a sphere (wall, facet, box) [m]."))
+		((Real,radius2,0,Attr::readonly,"True radius of body 2; 0 if body 2 is not a sphere [m]."))
+		((Real,rEff,0,Attr::readonly,"Reduced radius $\\bar r$ (physics.md §1): $r_1r_2/(r_1+r_2)$, or the sphere's radius against a wall [m]."))
+		((Real,mEff,0,Attr::readonly,"Reduced mass $m^*$: $m_1m_2/(m_1+m_2)$, or the dynamic body's mass against a wall or fixed body [kg]."))
+		((string,normalModel,"none",Attr::readonly,"Normal viscous model of this interaction ('none' when dry); see :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys.normalModel`."))
+		((string,tangentialModel,"none",Attr::readonly,"Tangential viscous model of this interaction ('none' when dry)."))
+		((string,capillaryModel,"none",Attr::readonly,"Capillary model of this interaction ('none' without surface tension)."))
+		((Real,viscosity,0,Attr::readonly,"Liquid viscosity $\\mu$ [Pa·s]."))
+		((Real,surfaceTension,0,Attr::readonly,"Surface tension $\\gamma$ [N/m]."))
+		((Real,contactAngle,0,Attr::readonly,"Contact angle $\\theta$ [rad]."))
+		((Real,bridgeVolume,0,Attr::readonly,"Bridge volume $V$ [m³]."))
+		((Real,sMin,0,Attr::readonly,"Minimum gap $S_{min}$ at which the viscous coefficients are evaluated (P6) [m]."))
+		((Real,sRup,0,Attr::readonly,"Rupture distance $S_{rup}=(1+\\theta/2)V^{1/3}$ (P11) [m]."))
+		((Real,formationDistance,0,Attr::readonly,"The bridge forms when $S$ falls below this distance (0: at contact) [m]."))
+		((Real,viscousStepCoefficient,0,Attr::readonly|Attr::noSave,"$C_n + w_tC_t$ at $S_{min}$: the largest viscous damping of this bridge as the time step sees it (P14, P14a) [N·s/m]."))
+		((Real,capillaryStiffness,0,Attr::readonly|Attr::noSave,"The largest $|dF/dS|$ of the capillary force over the bridge's life (P22) [N/m]."))
 		, /* ctor */ createIndex();
-		, /* py */
-		.add_property("normalModelName", &ViscBridgePhys::normalModelName, "Name of the normal viscous model.")
-		.add_property("tangentialModelName", &ViscBridgePhys::tangentialModelName, "Name of the tangential viscous model.")
 	);
 	// clang-format on
 	REGISTER_CLASS_INDEX(ViscBridgePhys, FrictPhys);

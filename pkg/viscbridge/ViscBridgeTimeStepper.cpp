@@ -1,7 +1,7 @@
 #include "ViscBridgeTimeStepper.hpp"
 #include "Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
 #include "ViscBridgePhys.hpp"
-#include "physics/ModelNames.hpp"
+#include "physics/SubModels.hpp"
 #include "physics/TimeStepBounds.hpp"
 #include "physics/Validation.hpp"
 #include "SceneValidation.hpp"
@@ -66,7 +66,8 @@ void NetworkTimeStepBound::evaluate(Scene* sc, bool implicit, Real rayleighFract
 		// read from the physics, so that the loop touches no body
 		const Real mobility = ph->mEff > 0 ? 1 / ph->mEff : 0;
 		// P14: springs k_n + 3.5 k_s; contact dashpots 2β√(m*k) likewise; bridge dashpots at S_min.
-		const Real k = ph->kn + 3.5 * ph->ks;
+		// the capillary pull is a spring of stiffness up to capillaryStiffness along n (P22)
+		const Real k = ph->kn + 3.5 * ph->ks + (ph->bridge ? ph->capillaryStiffness : 0);
 		const Real c = (ph->betan > 0 && ph->kn > 0) ? 2 * std::sqrt(ph->mEff) * (ph->betan * std::sqrt(ph->kn) + 3.5 * ph->betas * std::sqrt(ph->ks)) : 0;
 		const Real v = (ph->bridge && !implicit) ? ph->viscousStepCoefficient : 0;
 #ifdef YADE_OPENMP

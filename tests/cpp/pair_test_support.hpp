@@ -1,4 +1,6 @@
-// Building PairInput/PairParams for evaluatePair the way YADE's ScGeom would fill them.
+// Building PairInput/PairParams for evaluatePair the way YADE's ScGeom would fill them, and the
+// kernel called with the models as values and the state and the outputs apart (the form these tests
+// are written in), on top of the product's evaluatePair.
 #pragma once
 #include "test_support.hpp"
 #include "viscbridge/physics/PairGeometry.hpp"
@@ -51,6 +53,72 @@ inline HertzMindlinConstants referenceContact(double r1 = kRadius, double r2 = k
 {
 	const ElasticProperties m{ 1e7, 0.3, 0.5 };
 	return hertzMindlinConstants(m, m, r1, r2);
+}
+
+// The numbers of a pair that do not belong to a model.
+struct PairParams {
+	HertzMindlinConstants contact;
+	double                mEff, sMin, sRup, formationDistance;
+};
+
+template <class N, class T, class D, class C = NoCapillary> struct PairModels {
+	N                     normal;
+	T                     tangential;
+	D                     damping;
+	C                     capillary {};
+	static constexpr bool hasBridge = Combo<N, T, D, C>::hasBridge;
+};
+
+using PairState = PairRecord;
+
+// What one step gave: forces, the record's outputs, the energy.
+struct PairOutput {
+	Vec3   force1 = Vec3::Zero(), torque1 = Vec3::Zero(), torque2 = Vec3::Zero();
+	Vec3   normalContact = Vec3::Zero(), shearContact = Vec3::Zero(), normalViscous = Vec3::Zero(), shearViscous = Vec3::Zero();
+	Vec3   capillary = Vec3::Zero();
+	double kn = 0, ks = 0, cn = 0, ct = 0, cr = 0;
+	double dissipNormal = 0, dissipTangential = 0, dissipRotational = 0, dissipContactDamping = 0, dissipFriction = 0;
+	double elasticPotential = 0, capillaryWork = 0;
+	ViscousBlock block;
+};
+
+template <class N, class T, class D, class C> PairConstants constantsOf(const PairModels<N, T, D, C>& m, const PairParams& p)
+{
+	PairConstants k;
+	k.contact           = p.contact;
+	k.mEff              = p.mEff;
+	k.sMin              = p.sMin;
+	k.sRup              = p.sRup;
+	k.formationDistance = p.formationDistance;
+	k.normal.store(m.normal);
+	k.tangential.store(m.tangential);
+	k.damping.store(m.damping);
+	k.capillary.store(m.capillary);
+	return k;
+}
+
+template <bool E, bool Imp = false, class N, class T, class D, class C>
+bool evaluatePair(const PairModels<N, T, D, C>& m, const PairParams& p, PairState& st, const PairInput& in, PairOutput& out)
+{
+	PairForces f;
+	PairEnergy e;
+	const bool keep = viscbridge::evaluatePair<Combo<N, T, D, C>, E, Imp>(constantsOf(m, p), st, in, f, e);
+	out             = PairOutput();
+	if (!keep) return false;
+	out.force1        = f.force1;
+	out.torque1       = f.torque1;
+	out.torque2       = f.torque2;
+	out.normalContact = st.normalContactForce;
+	out.shearContact  = st.shearContactForce;
+	out.normalViscous = st.normalViscousForce;
+	out.shearViscous  = st.shearViscousForce;
+	out.capillary     = st.capillaryForce;
+	out.kn = st.kn, out.ks = st.ks, out.cn = st.cn, out.ct = st.ct, out.cr = st.cr;
+	out.dissipNormal = e.dissipNormal, out.dissipTangential = e.dissipTangential, out.dissipRotational = e.dissipRotational;
+	out.dissipContactDamping = e.dissipContactDamping, out.dissipFriction = e.dissipFriction;
+	out.elasticPotential = e.elasticPotential, out.capillaryWork = e.capillaryWork;
+	out.block = st.implicitBlock;
+	return true;
 }
 
 // Bridge of 1 % of a particle's volume, θ = 0 (physics.md R2/R3), S_min = 1e-4 r.

@@ -20,7 +20,7 @@ double pitoisFactorDirect(double V, double rBar, double S)
 
 TEST(NormalViscous, NoneHasZeroCoefficient)
 {
-	EXPECT_FALSE(NoNormalViscous::enabled);
+	EXPECT_FALSE(NoNormalViscous::capabilities.enabled);
 	EXPECT_EQ(NoNormalViscous().coefficient(1e-6), 0.0);
 }
 

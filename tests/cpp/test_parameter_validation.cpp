@@ -1,6 +1,8 @@
-// User-facing parameter checks (ModelNames.hpp, Validation.hpp): a bad value is rejected with a
+// User-facing parameter checks (SubModels.hpp, BridgeParameters.hpp, Validation.hpp): a bad value is rejected with a
 // std::invalid_argument (a Python ValueError) naming the parameter, the value and what is allowed.
-#include "viscbridge/physics/ModelNames.hpp"
+#include "viscbridge/physics/BridgeParameters.hpp"
+#include "viscbridge/physics/PairConstants.hpp"
+#include "viscbridge/physics/SubModels.hpp"
 #include "viscbridge/physics/NormalViscous.hpp"
 #include "viscbridge/physics/TangentialViscous.hpp"
 #include "viscbridge/physics/Validation.hpp"
@@ -8,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <limits>
 #include <string>
+#include <vector>
 
 using namespace viscbridge;
 
@@ -30,39 +33,94 @@ void expectContainsAll(const std::string& message, std::initializer_list<const c
 }
 } // namespace
 
-// Known names map to their enum values, in the documented order.
-TEST(ModelNames, KnownNamesParseToTheirEnums)
+// Every registered model parses to its place in its slot's list; the first of a slot is 'none'.
+template <class S> void expectEveryNameParses()
 {
-	EXPECT_EQ(parseName("Ip2", "normal", "none", normalModelNames), static_cast<int>(NormalModel::none));
-	EXPECT_EQ(parseName("Ip2", "normal", "adamsPerchard", normalModelNames), static_cast<int>(NormalModel::adamsPerchard));
-	EXPECT_EQ(parseName("Ip2", "normal", "pitois", normalModelNames), static_cast<int>(NormalModel::pitois));
-	EXPECT_EQ(parseName("Ip2", "tangential", "none", tangentialModelNames), static_cast<int>(TangentialModel::none));
-	EXPECT_EQ(parseName("Ip2", "tangential", "washino", tangentialModelNames), static_cast<int>(TangentialModel::washino));
-	EXPECT_EQ(parseName("Ip2", "tangential", "slip", tangentialModelNames), static_cast<int>(TangentialModel::slip));
-	EXPECT_EQ(parseName("Ip2", "tangential", "goldman", tangentialModelNames), static_cast<int>(TangentialModel::goldman));
-	EXPECT_EQ(parseName("Law2", "integration", "explicit", integrationNames), static_cast<int>(Integration::explicitEuler));
-	EXPECT_EQ(parseName("Law2", "integration", "implicit", integrationNames), static_cast<int>(Integration::implicitEuler));
+	for (std::size_t i = 0; i < S::Models::size; ++i)
+		EXPECT_EQ(modelIndex<S>("Ip2", S::Models::names[i]), i) << S::parameter << " " << S::Models::names[i];
+	EXPECT_STREQ(S::Models::names[0], "none");
+	EXPECT_FALSE(S::Models::capabilities[0].enabled);
+	EXPECT_NO_THROW(modelIndex<S>("Ip2", S::defaultModel));
+}
+
+TEST(Registry, EveryModelNameParsesToItsIndex)
+{
+	expectEveryNameParses<NormalSlot>();
+	expectEveryNameParses<TangentialSlot>();
+	expectEveryNameParses<DampingSlot>();
+	expectEveryNameParses<CapillarySlot>();
+	EXPECT_EQ(parseName("Law2", "integration", "explicit", integrationNames), static_cast<std::size_t>(Integration::explicitEuler));
+	EXPECT_EQ(parseName("Law2", "integration", "implicit", integrationNames), static_cast<std::size_t>(Integration::implicitEuler));
 }
 
 // The names the model structs carry are the parsable ones.
-TEST(ModelNames, StructNamesAreListed)
+TEST(Registry, StructNamesAreListed)
 {
-	EXPECT_EQ(parseName("x", "normal", AdamsPerchard::name, normalModelNames), 1);
-	EXPECT_EQ(parseName("x", "normal", Pitois::name, normalModelNames), 2);
-	EXPECT_EQ(parseName("x", "tangential", WashinoTangential::name, tangentialModelNames), 1);
-	EXPECT_EQ(parseName("x", "tangential", SlipTangential::name, tangentialModelNames), 2);
-	EXPECT_EQ(parseName("x", "tangential", GoldmanTangential::name, tangentialModelNames), 3);
+	EXPECT_EQ(modelIndex<NormalSlot>("x", AdamsPerchard::name), 1u);
+	EXPECT_EQ(modelIndex<NormalSlot>("x", Pitois::name), 2u);
+	EXPECT_EQ(modelIndex<TangentialSlot>("x", WashinoTangential::name), 1u);
+	EXPECT_EQ(modelIndex<TangentialSlot>("x", SlipTangential::name), 2u);
+	EXPECT_EQ(modelIndex<TangentialSlot>("x", GoldmanTangential::name), 3u);
+	EXPECT_EQ(modelIndex<CapillarySlot>("x", WillettCapillary::name), 1u);
+	EXPECT_EQ(modelIndex<CapillarySlot>("x", RabinovichCapillary::name), 2u);
 }
 
 // Unknown (also wrongly capitalised) names: the message names owner.parameter, the bad value and
 // every allowed name.
-TEST(ModelNames, UnknownNameIsRejectedWithParameterValueAndAllowedNames)
+TEST(Registry, UnknownNameIsRejectedWithParameterValueAndAllowedNames)
 {
-	const std::string m = rejection([] { parseName("Ip2_ViscBridge", "normalModel", "adamsperchard", normalModelNames); });
+	const std::string m = rejection([] { modelIndex<NormalSlot>("Ip2_ViscBridge", "adamsperchard"); });
 	expectContainsAll(m, { "Ip2_ViscBridge.normalModel", "'adamsperchard'", "'none'", "'adamsPerchard'", "'pitois'" });
-	const std::string t = rejection([] { parseName("Ip2_ViscBridge", "tangentialModel", "goldmann", tangentialModelNames); });
+	const std::string t = rejection([] { modelIndex<TangentialSlot>("Ip2_ViscBridge", "goldmann"); });
 	expectContainsAll(t, { "tangentialModel", "goldmann", "'none', 'washino', 'slip', 'goldman'" });
+	const std::string c = rejection([] { modelIndex<CapillarySlot>("Ip2_ViscBridge", "Willett"); });
+	expectContainsAll(c, { "capillaryModel", "'Willett'", "'none', 'willett', 'rabinovich'" });
 	EXPECT_FALSE(rejection([] { parseName("Law2", "integration", "", integrationNames); }).empty());
+}
+
+// What the checks that combine models rely on: only dissipative tangential models can be implicit,
+// capillary forces are conservative and not dissipative, every enabled viscous model is dissipative
+// except 'washino' (physics.md P7).
+TEST(Registry, CapabilitiesAreConsistent)
+{
+	for (const auto& c : TangentialModels::capabilities)
+		if (c.implicitCapable && c.enabled) EXPECT_TRUE(c.dissipative);
+	EXPECT_FALSE(TangentialModels::capabilities[modelIndex<TangentialSlot>("x", "washino")].dissipative);
+	for (std::size_t i = 1; i < CapillaryModels::size; ++i) {
+		EXPECT_TRUE(CapillaryModels::capabilities[i].conservative);
+		EXPECT_FALSE(CapillaryModels::capabilities[i].dissipative);
+		EXPECT_TRUE(CapillaryModels::capabilities[i].beyondContact);
+	}
+	for (const auto& c : NormalModels::capabilities)
+		EXPECT_TRUE(c.dissipative);
+}
+
+// Every combination of models has its own kernel index.
+TEST(Registry, ComboIndicesAreDistinct)
+{
+	std::vector<bool> seen(comboCount, false);
+	for (std::size_t n = 0; n < NormalModels::size; ++n)
+		for (std::size_t t = 0; t < TangentialModels::size; ++t)
+			for (std::size_t d = 0; d < DampingModels::size; ++d)
+				for (std::size_t c = 0; c < CapillaryModels::size; ++c) {
+					const std::size_t k = comboIndex({ n, t, d, c });
+					ASSERT_LT(k, comboCount);
+					EXPECT_FALSE(seen[k]);
+					seen[k] = true;
+				}
+}
+
+// The numeric parameters' table: every value outside its range is rejected, naming it.
+TEST(Registry, ParameterSpecsRejectOutOfRange)
+{
+	for (const ParameterSpec& p : parameters::all) {
+		EXPECT_NO_THROW(p.check("Ip2", p.defaultValue)) << p.name;
+		const std::string below = rejection([&] { p.check("Ip2", p.lo - 1); });
+		expectContainsAll(below, { "Ip2.", p.name });
+		EXPECT_FALSE(rejection([&] { p.check("Ip2", std::nan("")); }).empty()) << p.name;
+		if (std::isfinite(p.hi)) EXPECT_FALSE(rejection([&] { p.check("Ip2", p.hi * 1.5 + 1); }).empty()) << p.name;
+		if (p.loOpen) EXPECT_FALSE(rejection([&] { p.check("Ip2", p.lo); }).empty()) << p.name;
+	}
 }
 
 // requirePositive: > 0 and finite.

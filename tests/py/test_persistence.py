@@ -68,8 +68,8 @@ def test_attributes_survive_saving(tmp_path):
     ts = next(e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper))
     ts.safety, ts.maxGrowth = 0.3, 1.2
     O.run(200, True)
-    before = {(i.id1, i.id2): (i.phys.bridge, i.phys.sRup, i.phys.viscousStepCoefficient, i.phys.normalModelName,
-                               i.phys.tangentialModelName, tuple(i.phys.shearElastic)) for i in O.interactions if i.isReal}
+    before = {(i.id1, i.id2): (i.phys.bridge, i.phys.sRup, i.phys.viscousStepCoefficient, i.phys.normalModel,
+                               i.phys.tangentialModel, tuple(i.phys.shearElastic)) for i in O.interactions if i.isReal}
     path = str(tmp_path / 's.yade.gz')
     O.save(path)
     O.load(path)
@@ -81,8 +81,8 @@ def test_attributes_survive_saving(tmp_path):
     assert (solver.tolerance, solver.preconditioner) == (1e-10, 'jacobi')
     ts = next(e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper))
     assert (ts.safety, ts.maxGrowth) == (0.3, 1.2)
-    after = {(i.id1, i.id2): (i.phys.bridge, i.phys.sRup, i.phys.viscousStepCoefficient, i.phys.normalModelName,
-                              i.phys.tangentialModelName, tuple(i.phys.shearElastic)) for i in O.interactions if i.isReal}
+    after = {(i.id1, i.id2): (i.phys.bridge, i.phys.sRup, i.phys.viscousStepCoefficient, i.phys.normalModel,
+                              i.phys.tangentialModel, tuple(i.phys.shearElastic)) for i in O.interactions if i.isReal}
     assert after == before and len(after) > 5
     # a value that fails validation cannot hide in a saved file either: loading re-validates
     assert any(isinstance(e, yw.ViscBridgeGuard) for e in O.engines)

@@ -1,42 +1,51 @@
-// Normal viscous force models F_v^n = -C^n v_r^n (P3), selectable per scene.
+// Normal viscous force models F_v^n = −C^n v_r^n (physics.md P3), one slot of SubModels.hpp.
 //
-// Each model is a small value type built once per interaction (when the physics is created) with
-// coefficient(S) evaluated at the clamped gap S = max(S, S_min) (P6).  `enabled` lets the pair
-// kernel drop every trace of an unselected model at compile time.
+// A model is a small value type holding its constants, built once per interaction; coefficient(S)
+// is evaluated at the clamped gap S = max(S, S_min) (P6).
 #pragma once
+#include "SubModel.hpp"
 #include "Vector.hpp"
 #include <cmath>
 
 namespace viscbridge {
 
 struct NoNormalViscous {
-	static constexpr bool enabled = false;
-	static constexpr const char* name = "none";
-	double coefficient(double) const { return 0; }
+	static constexpr const char*                name         = "none";
+	static constexpr Capabilities               capabilities { false, true, false, false, true };
+	static constexpr std::array<const char*, 0> energyKeys {};
+	static NoNormalViscous make(const BridgeInputs&) { return {}; }
+	double                 coefficient(double) const { return 0; }
+	double                 stepCoefficient(const BridgeInputs&) const { return 0; }
 };
 
 // P4 (Adams & Perchard 1985): C^n = 6πμ r̄² / S.
 struct AdamsPerchard {
-	static constexpr bool enabled = true;
-	static constexpr const char* name = "adamsPerchard";
-	double sixPiMuR2; // 6πμ r̄²
+	static constexpr const char*                name         = "adamsPerchard";
+	static constexpr Capabilities               capabilities { true, true, false, true, true };
+	static constexpr std::array<const char*, 1> energyKeys { "viscDissipNormal" };
+	double                                      sixPiMuR2; // 6πμ r̄²
 	AdamsPerchard(double viscosity, double rBar) : sixPiMuR2(6 * pi * viscosity * rBar * rBar) {}
-	double coefficient(double S) const { return sixPiMuR2 / S; }
+	static AdamsPerchard make(const BridgeInputs& b) { return AdamsPerchard(b.viscosity, b.rBar); }
+	double               coefficient(double S) const { return sixPiMuR2 / S; }
+	// the stiffest the dashpot gets: at S_min (coefficients are constant below it, P6)
+	double stepCoefficient(const BridgeInputs& b) const { return coefficient(b.sMin); }
 };
 
 // P5 (Pitois et al. 2000): C^n = 6πμ r̄²/S · [1 − (1 + V/(π r̄ S²))^(−1/2)]².
 // The bracket is written as −expm1(−½ log1p(x)) with x = V/(π r̄ S²): it keeps full precision for
 // small x (large gaps, small bridges) where 1 − (1+x)^(−1/2) ≈ x/2 would cancel.
 struct Pitois {
-	static constexpr bool enabled = true;
-	static constexpr const char* name = "pitois";
-	double sixPiMuR2; // 6πμ r̄²
-	double a2;        // V/(π r̄)
+	static constexpr const char*                name         = "pitois";
+	static constexpr Capabilities               capabilities { true, true, false, true, true };
+	static constexpr std::array<const char*, 1> energyKeys { "viscDissipNormal" };
+	double                                      sixPiMuR2; // 6πμ r̄²
+	double                                      a2;        // V/(π r̄)
 	Pitois(double viscosity, double rBar, double volume)
 	        : sixPiMuR2(6 * pi * viscosity * rBar * rBar)
 	        , a2(volume / (pi * rBar))
 	{
 	}
+	static Pitois make(const BridgeInputs& b) { return Pitois(b.viscosity, b.rBar, b.volume); }
 	// Pitois' volume factor [1 − (1 + V/(π r̄ S²))^(−1/2)]² ∈ (0, 1]; → 1 as V → ∞ (Adams–Perchard).
 	double volumeFactor(double S) const
 	{
@@ -44,6 +53,7 @@ struct Pitois {
 		return bracket * bracket;
 	}
 	double coefficient(double S) const { return sixPiMuR2 / S * volumeFactor(S); }
+	double stepCoefficient(const BridgeInputs& b) const { return coefficient(b.sMin); }
 };
 
 } // namespace viscbridge

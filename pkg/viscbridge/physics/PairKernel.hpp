@@ -1,31 +1,31 @@
-// One interaction, one time step: Hertz–Mindlin contact plus the selected viscous-bridge terms,
-// composed at compile time from the sub-models (no branch or call for an unselected effect).
+// One interaction, one time step: Hertz–Mindlin contact plus the effects of the liquid bridge,
+// composed at compile time from the models of SubModels.hpp (no branch or call for an effect the
+// interaction did not select).
 //
-// Forces follow physics.md §1: n points from body 1 to body 2 and the force F is the one on body 1
+// Forces follow physics.md §1: n points from body 1 to body 2 and a force F is the one on body 1
 // (body 2 receives −F).  Every velocity-dependent force is evaluated from the velocities the
 // integrator stores (v_{n−1/2} for YADE's leapfrog): explicit Euler in velocity (§1).
+//
+// The kernel works in place on a Record: the interaction's state and outputs, with these members
+// (ViscBridgePhys has them as attributes; PairRecord below is a plain one):
+//   state    shearElastic (rotated into the current contact frame by the caller), shearPotential,
+//            bridge, and the last step's work record workPending, workCn, workVn, workU, workS,
+//            workM1, workM2, workCapillary;
+//   outputs  separation, kn, ks, cn, ct, cr, normalContactForce, shearContactForce,
+//            normalViscousForce, shearViscousForce, capillaryForce, normalForce, shearForce (YADE's
+//            sense: sustained by body 2), implicitBlock.
+// Outputs of an effect the interaction does not have are never written (they keep their zeros).
 #pragma once
-#include "ContactDamping.hpp"
-#include "HertzMindlin.hpp"
-#include "NormalViscous.hpp"
+#include "PairConstants.hpp"
 #include "PairGeometry.hpp"
-#include "TangentialViscous.hpp"
 #include "Vector.hpp"
+#include <cmath>
 
 namespace viscbridge {
 
 struct BodyKinematics {
 	Vec3   pos, vel, angVel;
 	double radius; // true radius of a sphere; 0 for a wall, facet or box
-};
-
-// Fixed per interaction (set when its physics is created).
-struct PairParams {
-	HertzMindlinConstants contact;
-	double                mEff;              // m* (§1)
-	double                sMin;              // S_min of P6 [m]
-	double                sRup;              // rupture distance, P11 [m]
-	double                formationDistance; // a bridge forms at S ≤ this (0: at contact) [m]
 };
 
 // Per step.  contactRelVel and shearIncrement are YADE's ScGeom incident velocity (side 2 minus
@@ -40,23 +40,16 @@ struct PairInput {
 	double         dt;
 };
 
-// The viscous forces of the last step, kept (with energy tracking) until the next step shows the
-// velocities they produced: their work is then W = F·(v_before + v_after)/2·Δt, consistent with
-// the kinetic energy YADE's leapfrog reports (physics.md §6).
-struct ViscousWorkRecord {
-	bool                 pending = false;
-	double               cn = 0, vn = 0;                    // normal: C^n and v_r·n
-	Vec3                 u = Vec3::Zero(), s = Vec3::Zero(); // tangential kinematics
-	TangentialResistance resistance;
+// What the step puts on the two bodies.
+struct PairForces {
+	Vec3 force1 = Vec3::Zero(), torque1 = Vec3::Zero(), torque2 = Vec3::Zero();
 };
 
-// Carried from step to step.  The caller rotates shearElastic into the current contact frame
-// (YADE's ScGeom::rotate) before each call.
-struct PairState {
-	Vec3              shearElastic   = Vec3::Zero(); // elastic tangential force, YADE sense (on body 2)
-	double            shearPotential = 0;            // elastic energy stored in shear (tracked with energy only)
-	bool              bridge         = false;
-	ViscousWorkRecord lastViscous;
+// Energy of the step [J] (physics.md §6): dissipation and stored energy when tracking; the capillary
+// work always (ViscBridgeGuard counts it), with the sign of a dissipation (−work done, P21).
+struct PairEnergy {
+	double dissipNormal = 0, dissipTangential = 0, dissipRotational = 0, dissipContactDamping = 0, dissipFriction = 0;
+	double elasticPotential = 0, capillaryWork = 0;
 };
 
 // A bridge's damping as a linear map, for the implicit solver (P15): with dv = V1 − V2 (a wall side's
@@ -67,193 +60,263 @@ struct ViscousBlock {
 	Vec3                 n     = Vec3::Zero();
 	double               cn    = 0;
 	TangentialResistance resistance;
-	double               a1 = 0, a2 = 0;              // arms of the sphere sides (0 for a wall side)
+	double               a1 = 0, a2 = 0;                      // arms of the sphere sides (0 for a wall side)
 	Vec3                 r1 = Vec3::Zero(), r2 = Vec3::Zero(); // wall anchor − wall centre (0 for a sphere side)
 };
 
-struct PairOutput {
-	Vec3   force1 = Vec3::Zero(), torque1 = Vec3::Zero(), torque2 = Vec3::Zero();
-	Vec3   normalContact = Vec3::Zero(), shearContact = Vec3::Zero(); // on body 1
-	Vec3   normalViscous = Vec3::Zero(), shearViscous = Vec3::Zero(); // on body 1
-	double kn = 0, ks = 0, cn = 0, ct = 0, cr = 0;
-	// Energy (filled only when tracking): dissipated during this step [J] and stored [J].
-	double dissipNormal = 0, dissipTangential = 0, dissipRotational = 0, dissipContactDamping = 0, dissipFriction = 0;
-	double elasticPotential = 0;
-	ViscousBlock block; // filled instead of applying the viscous forces when they are implicit
+// A plain Record (for the kernel tests and any use without YADE).
+struct PairRecord {
+	Vec3         shearElastic = Vec3::Zero();
+	double       shearPotential = 0;
+	bool         bridge = false;
+	bool         workPending = false;
+	double       workCn = 0, workVn = 0, workCapillary = 0;
+	Vec3         workU = Vec3::Zero(), workS = Vec3::Zero();
+	Vec2         workM1 = Vec2::Zero(), workM2 = Vec2::Zero();
+	double       separation = 0, kn = 0, ks = 0, cn = 0, ct = 0, cr = 0;
+	Vec3         normalContactForce = Vec3::Zero(), shearContactForce = Vec3::Zero(), normalViscousForce = Vec3::Zero(),
+	     shearViscousForce = Vec3::Zero(), capillaryForce = Vec3::Zero(), normalForce = Vec3::Zero(), shearForce = Vec3::Zero();
+	ViscousBlock implicitBlock;
 };
 
-template <class Normal, class Tangential, class Damping> struct PairModels {
-	Normal     normal;
-	Tangential tangential;
-	Damping    damping;
-	static constexpr bool hasBridge = Normal::enabled || Tangential::enabled;
+// The models one kernel is compiled for.
+template <class N, class T, class D, class C> struct Combo {
+	using Normal = N;
+	using Tangential = T;
+	using Damping = D;
+	using Capillary = C;
+	static constexpr bool hasBridge = N::capabilities.beyondContact || T::capabilities.beyondContact || C::capabilities.beyondContact;
 };
 
 // The bridge end on a side that is not a sphere: the point of the wall facing the sphere, moved
-// towards it by the fraction `armGapFraction` of the gap (mid-gap for `slip`).
+// towards it by the fraction `armGapFraction` of the gap (mid-gap for `slip`; physics.md P0a).
 inline Vec3 wallAnchor(const BodyKinematics& sphere, const Vec3& towardsWall, double S, double armGapFraction)
 {
 	return sphere.pos + (sphere.radius + (1.0 - armGapFraction) * S) * towardsWall;
 }
 
-// Evaluates one step; returns false when the interaction should be erased (no contact, no bridge).
-// ImplicitViscous: the viscous forces are left to the implicit solver (P15); the kernel describes
-// them in out.block instead of applying them, and their work is accounted by the solver.
-template <bool TrackEnergy, bool ImplicitViscous = false, class Normal, class Tangential, class Damping>
-bool evaluatePair(const PairModels<Normal, Tangential, Damping>& m, const PairParams& p, PairState& st, const PairInput& in, PairOutput& out)
-{
-	constexpr bool hasBridge = PairModels<Normal, Tangential, Damping>::hasBridge;
-	const double   S         = in.S;
-	const bool     contact   = S <= 0;
-	// Bridge life (physics.md §2): forms at contact or within formationDistance (never beyond its
-	// own rupture distance), ruptures beyond S_rup (P11), then nothing until the next formation.
-	if constexpr (hasBridge) {
-		if (st.bridge) {
-			if (S > p.sRup) st.bridge = false;
-		} else if (contact || (S <= p.formationDistance && S <= p.sRup)) {
-			st.bridge = true;
-		}
-		if (!contact && !st.bridge) return false;
-	} else {
-		if (!contact) return false;
-	}
-	out = PairOutput();
+namespace kernel {
 
-	// ---- Hertz–Mindlin contact, step by step as Law2_ScGeom_MindlinPhys_Mindlin ----------------
-	Vec3 contactForce1 = Vec3::Zero();
-	if (contact) {
-		const double delta       = -S;
-		const double Fn          = p.contact.kno * std::pow(delta, 1.5);
-		out.kn                   = 3. / 2. * p.contact.kno * std::pow(delta, 0.5);
-		out.ks                   = p.contact.kso * std::pow(delta, 0.5);
+	// Bridge life (physics.md P11): forms at contact or within formationDistance (never beyond its
+	// own rupture distance), ruptures beyond S_rup, then nothing until the next formation.
+	template <class R> bool bridgeLives(const PairConstants& k, R& r, double S)
+	{
+		if (r.bridge) {
+			if (S > k.sRup) r.bridge = false;
+		} else if (S <= 0 || (S <= k.formationDistance && S <= k.sRup)) {
+			r.bridge = true;
+		}
+		return r.bridge;
+	}
+
+	// Hertz–Mindlin contact, step by step as YADE's Law2_ScGeom_MindlinPhys_Mindlin (P2a, P2b).
+	template <class D, bool E, class R> void contact(const PairConstants& k, R& r, const PairInput& in, PairForces& f, PairEnergy& e)
+	{
+		const double delta = -in.S, root = std::sqrt(delta);
+		const double Fn    = k.contact.kno * delta * root;
+		r.kn               = 1.5 * k.contact.kno * root;
+		r.ks               = k.contact.kso * root;
 		Vec3       normalForce   = Fn * in.n; // YADE sense (on body 2)
-		Vec3&      shearElastic  = st.shearElastic;
+		Vec3&      shearElastic  = r.shearElastic;
 		[[maybe_unused]] const double previousShear2 = shearElastic.squaredNorm();
-		const Vec3 incidentVs    = in.shearIncrement / in.dt;
-		shearElastic             = shearElastic - out.ks * (incidentVs * in.dt);
+		shearElastic -= r.ks * in.shearIncrement;
 		[[maybe_unused]] double cs = 0;
-		if constexpr (Damping::enabled) {
-			const double cn           = 2. * std::sqrt(p.mEff * out.kn) * m.damping.betan;
-			cs                        = 2. * std::sqrt(p.mEff * out.ks) * m.damping.betas;
-			const Vec3 incidentVn     = in.n.dot(in.contactRelVel) * in.n;
-			Vec3       normalViscous  = cn * incidentVn;
-			const Vec3 normTemp       = normalForce - normalViscous;
+		if constexpr (D::capabilities.enabled) {
+			const D&     d             = k.damping.template as<D>();
+			const double cn            = 2. * std::sqrt(k.mEff * r.kn) * d.betan;
+			cs                         = 2. * std::sqrt(k.mEff * r.ks) * d.betas;
+			const Vec3   incidentVn    = in.n.dot(in.contactRelVel) * in.n;
+			Vec3         normalViscous = cn * incidentVn;
+			const Vec3   normTemp      = normalForce - normalViscous;
 			if (normTemp.dot(in.n) < 0.0) { // damping may not make a non-adhesive contact attract
 				normalForce   = Vec3::Zero();
 				normalViscous = normalViscous + normTemp;
 			} else {
 				normalForce -= normalViscous;
 			}
-			if constexpr (TrackEnergy) out.dissipContactDamping += normalViscous.dot(incidentVn * in.dt);
+			if constexpr (E) e.dissipContactDamping += normalViscous.dot(incidentVn * in.dt);
 		}
 		Vec3         shearForce;
-		const double maxFs = normalForce.norm() * p.contact.tanPhi;
+		const double maxFs = normalForce.norm() * k.contact.tanPhi;
 		if (shearElastic.squaredNorm() > maxFs * maxFs) { // Coulomb sliding
-			const Vec3 trial = shearElastic;
+			[[maybe_unused]] const Vec3 trial = shearElastic;
 			shearElastic *= maxFs / shearElastic.norm();
 			shearForce = shearElastic;
-			if constexpr (TrackEnergy) out.dissipFriction += ((trial - shearElastic) / out.ks).dot(shearElastic);
-		} else if constexpr (Damping::enabled) {
-			const Vec3 shearViscous = cs * incidentVs;
+			if constexpr (E) e.dissipFriction += ((trial - shearElastic) / r.ks).dot(shearElastic);
+		} else if constexpr (D::capabilities.enabled) {
+			const Vec3 shearViscous = cs * (in.shearIncrement / in.dt);
 			shearForce              = shearElastic - shearViscous;
-			if constexpr (TrackEnergy) out.dissipContactDamping += shearViscous.dot(incidentVs * in.dt);
+			if constexpr (E) e.dissipContactDamping += shearViscous.dot(in.shearIncrement);
 		} else {
 			shearForce = shearElastic;
 		}
-		if constexpr (TrackEnergy) {
-			// Hertz: ∫ kno δ^{3/2} dδ.  Mindlin's stiffness changes with δ, so |Fs|²/(2ks) is not
-			// the work stored in shear; the increments (|Fs|² − |Fs_prev|²)/(2ks) at the current ks
-			// are, and keep the energy balance closed (Coulomb sliding is counted in dissipFriction).
-			if (out.ks > 0) st.shearPotential += 0.5 * (shearElastic.squaredNorm() - previousShear2) / out.ks;
-			out.elasticPotential = 0.4 * p.contact.kno * std::pow(delta, 2.5) + st.shearPotential;
+		if constexpr (E) {
+			// Hertz: ∫ kno δ^{3/2} dδ.  Mindlin's stiffness changes with δ, so |Fs|²/(2ks) is not the
+			// work stored in shear; the increments (|Fs|² − |Fs_prev|²)/(2ks) at the current ks are,
+			// and keep the energy balance closed (Coulomb sliding is counted in dissipFriction; E3).
+			if (r.ks > 0) r.shearPotential += 0.5 * (shearElastic.squaredNorm() - previousShear2) / r.ks;
+			e.elasticPotential = 0.4 * k.contact.kno * delta * delta * root + r.shearPotential;
 		}
-		out.normalContact = -normalForce;
-		out.shearContact  = -shearForce;
-		contactForce1     = out.normalContact + out.shearContact;
-		out.force1        = contactForce1;
-		out.torque1       = (in.contactPoint - in.b1.pos).cross(contactForce1);
-		out.torque2       = -(in.contactPoint - in.b2.pos).cross(contactForce1);
-	} else {
-		st.shearElastic   = Vec3::Zero(); // a new contact starts without tangential history
-		st.shearPotential = 0;
+		r.normalContactForce = -normalForce;
+		r.shearContactForce  = -shearForce;
+		f.force1             = r.normalContactForce + r.shearContactForce;
+		f.torque1            = (in.contactPoint - in.b1.pos).cross(f.force1);
+		f.torque2            = -(in.contactPoint - in.b2.pos).cross(f.force1);
 	}
 
-	// ---- viscous bridge (P3–P9) ------------------------------------------------------------------
-	if constexpr (hasBridge) {
-		if (!st.bridge) {
-			st.lastViscous.pending = false;
-			return true;
+	// The bridge's ends: the relative velocity V1 − V2 of its ends, their anchors on wall sides.
+	struct BridgeEnds {
+		bool wall1, wall2;
+		Vec3 anchor1, anchor2, vr;
+		double vn;
+	};
+	template <class T> BridgeEnds bridgeEnds(const PairInput& in)
+	{
+		BridgeEnds b { in.b1.radius <= 0, in.b2.radius <= 0, Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), 0 };
+		Vec3       V1 = in.b1.vel, V2 = in.b2.vel;
+		if (b.wall1) {
+			b.anchor1 = wallAnchor(in.b2, -in.n, in.S, T::armGapFraction);
+			V1 += in.b1.angVel.cross(b.anchor1 - in.b1.pos);
 		}
-		const double sEff   = clampedGap(S, p.sMin);
-		const double lambda = Tangential::armGapFraction;
-		const bool   wall1 = in.b1.radius <= 0, wall2 = in.b2.radius <= 0;
-		Vec3         V1 = in.b1.vel, V2 = in.b2.vel, anchor1, anchor2;
-		if (wall1) {
-			anchor1 = wallAnchor(in.b2, -in.n, S, lambda);
-			V1 += in.b1.angVel.cross(anchor1 - in.b1.pos);
+		if (b.wall2) {
+			b.anchor2 = wallAnchor(in.b1, in.n, in.S, T::armGapFraction);
+			V2 += in.b2.angVel.cross(b.anchor2 - in.b2.pos);
 		}
-		if (wall2) {
-			anchor2 = wallAnchor(in.b1, in.n, S, lambda);
-			V2 += in.b2.angVel.cross(anchor2 - in.b2.pos);
-		}
-		const Vec3   vr = V1 - V2;
-		const double vn = vr.dot(in.n);
-		Vec3         viscous1 = Vec3::Zero(), viscousTorque1 = Vec3::Zero(), viscousTorque2 = Vec3::Zero();
-		[[maybe_unused]] TangentialResistance resistance;
-		// The previous step's viscous forces did their work while the velocities went from the
-		// recorded ones to the current ones (in.dt is the step the integrator just made).
-		[[maybe_unused]] ViscousWorkRecord& last = st.lastViscous;
-		if constexpr (Normal::enabled) {
-			out.cn            = m.normal.coefficient(sEff);
-			out.normalViscous = -out.cn * vn * in.n; // P3: −C^n v_r^n
-			viscous1 += out.normalViscous;
-			if constexpr (TrackEnergy && !ImplicitViscous) {
-				if (last.pending) out.dissipNormal = last.cn * last.vn * 0.5 * (last.vn + vn) * in.dt;
-				last.cn = out.cn;
-				last.vn = vn;
-			}
-		}
-		if constexpr (Tangential::enabled) {
-			const TangentialKinematics    k { in.n, vr - vn * in.n, in.b1.angVel, in.b2.angVel, in.b1.radius, in.b2.radius, S, sEff };
-			const TangentialViscousResult t = m.tangential.evaluate(k);
-			out.shearViscous                = t.force1;
-			out.ct                          = t.ct;
-			out.cr                          = t.cr;
-			resistance                      = t.resistance;
-			viscous1 += t.force1;
-			viscousTorque1 = t.torque1;
-			viscousTorque2 = t.torque2;
-			if constexpr (TrackEnergy && !ImplicitViscous) {
-				if (last.pending) {
-					const TangentialWork w = tangentialWork(last.resistance, last.u, last.s, t.u, t.s);
-					out.dissipTangential   = w.sliding * in.dt;
-					out.dissipRotational   = w.rolling * in.dt;
-				}
-				last.u          = t.u;
-				last.s          = t.s;
-				last.resistance = t.resistance;
-			}
-		}
-		if constexpr (ImplicitViscous) {
-			// the forces above used the old velocities; the solver recomputes them from the new ones
-			ViscousBlock& b = out.block;
-			b.valid         = true;
-			b.n             = in.n;
-			b.cn            = out.cn;
-			b.resistance    = resistance;
-			b.a1            = wall1 ? 0.0 : in.b1.radius + lambda * S;
-			b.a2            = wall2 ? 0.0 : in.b2.radius + lambda * S;
-			if (wall1) b.r1 = anchor1 - in.b1.pos;
-			if (wall2) b.r2 = anchor2 - in.b2.pos;
-		} else {
-			if constexpr (TrackEnergy) last.pending = true;
-			out.force1 += viscous1;
-			out.torque1 += viscousTorque1;
-			out.torque2 += viscousTorque2;
-			if (wall1) out.torque1 += (anchor1 - in.b1.pos).cross(viscous1);
-			if (wall2) out.torque2 += (anchor2 - in.b2.pos).cross(-viscous1);
-		}
+		b.vr = V1 - V2;
+		b.vn = b.vr.dot(in.n);
+		return b;
 	}
+
+	// The previous step's forces did their work while the velocities went from the recorded ones to
+	// the current ones (E1): booked now, then this step's are recorded.  capillaryForce is the
+	// magnitude of this step's pull.
+	template <class N, class T, class C, bool E, bool Imp, class R>
+	void bookWork(R& r, const BridgeEnds& b, const TangentialViscousResult& t, double capillaryForce, double dt, PairEnergy& e)
+	{
+		if (r.workPending) {
+			const double meanVn = 0.5 * (r.workVn + b.vn);
+			if constexpr (E && !Imp && N::capabilities.enabled) e.dissipNormal = r.workCn * r.workVn * meanVn * dt;
+			if constexpr (E && !Imp && T::capabilities.enabled) {
+				const TangentialResistance m { r.workM1[0], r.workM1[1], r.workM2[0], r.workM2[1] };
+				const TangentialWork       w = tangentialWork(m, r.workU, r.workS, t.u, t.s);
+				e.dissipTangential         = w.sliding * dt;
+				e.dissipRotational         = w.rolling * dt;
+			}
+			// the pull +F n on body 1 has the power F·(V1 − V2)·n on the pair (P21)
+			if constexpr (C::capabilities.enabled) e.capillaryWork = -r.workCapillary * meanVn * dt;
+		}
+		// recorded whenever this runs, so that a record is never older than the step before
+		r.workVn = b.vn;
+		if constexpr (!Imp && N::capabilities.enabled) r.workCn = r.cn;
+		if constexpr (!Imp && T::capabilities.enabled) {
+			r.workU  = t.u;
+			r.workS  = t.s;
+			r.workM1 = Vec2(t.resistance.m11, t.resistance.m12);
+			r.workM2 = Vec2(t.resistance.m21, t.resistance.m22);
+		}
+		if constexpr (C::capabilities.enabled) r.workCapillary = capillaryForce;
+		r.workPending = true;
+	}
+
+	// The implicit solver's description of the bridge's damping (P15), instead of its forces.
+	template <class T, class R> void describeDamping(R& r, const PairInput& in, const BridgeEnds& b, const TangentialViscousResult& t)
+	{
+		ViscousBlock& block = r.implicitBlock;
+		block.valid         = true;
+		block.n             = in.n;
+		block.cn            = r.cn;
+		block.resistance    = t.resistance;
+		block.a1            = b.wall1 ? 0.0 : in.b1.radius + T::armGapFraction * in.S;
+		block.a2            = b.wall2 ? 0.0 : in.b2.radius + T::armGapFraction * in.S;
+		block.r1            = b.wall1 ? Vec3(b.anchor1 - in.b1.pos) : Vec3::Zero();
+		block.r2            = b.wall2 ? Vec3(b.anchor2 - in.b2.pos) : Vec3::Zero();
+		r.normalViscousForce = r.shearViscousForce = Vec3::Zero(); // set by the solver from the implicit velocities
+	}
+
+	// The bridge's forces (P3–P9, P19–P20) on top of the contact's.
+	template <class Cm, bool E, bool Imp, class R> void bridge(const PairConstants& k, R& r, const PairInput& in, PairForces& f, PairEnergy& e)
+	{
+		using N = typename Cm::Normal;
+		using T = typename Cm::Tangential;
+		using C = typename Cm::Capillary;
+		const double     sEff = clampedGap(in.S, k.sMin);
+		const BridgeEnds b    = bridgeEnds<T>(in);
+		Vec3             onWall1 = Vec3::Zero(); // what acts on body 1 through the bridge's wall anchors
+		TangentialViscousResult t;
+		if constexpr (N::capabilities.enabled) {
+			r.cn                 = k.normal.template as<N>().coefficient(sEff);
+			r.normalViscousForce = -r.cn * b.vn * in.n; // P3: −C^n v_r^n
+		}
+		if constexpr (T::capabilities.enabled) {
+			t                   = k.tangential.template as<T>().evaluate({ in.n, b.vr - b.vn * in.n, in.b1.angVel, in.b2.angVel, in.b1.radius, in.b2.radius, in.S, sEff });
+			r.shearViscousForce = t.force1;
+			r.ct                = t.ct;
+			r.cr                = t.cr;
+		}
+		double pull = 0;
+		if constexpr (C::capabilities.enabled) {
+			pull             = k.capillary.template as<C>().force(in.S);
+			r.capillaryForce = pull * in.n; // attraction: towards body 2
+			f.force1 += r.capillaryForce;
+			onWall1 += r.capillaryForce;
+		}
+		if constexpr (E || C::capabilities.enabled) bookWork<N, T, C, E, Imp>(r, b, t, pull, in.dt, e);
+		else r.workPending = false; // work is booked between two steps that both record it
+		if constexpr (Imp) {
+			describeDamping<T>(r, in, b, t);
+		} else {
+			const Vec3 viscous1 = r.normalViscousForce + r.shearViscousForce;
+			f.force1 += viscous1;
+			f.torque1 += t.torque1;
+			f.torque2 += t.torque2;
+			onWall1 += viscous1;
+		}
+		if (b.wall1) f.torque1 += (b.anchor1 - in.b1.pos).cross(onWall1);
+		if (b.wall2) f.torque2 += (b.anchor2 - in.b2.pos).cross(-onWall1);
+	}
+
+	// After rupture: nothing of the bridge is left.
+	template <class R> void forgetBridge(R& r)
+	{
+		r.workPending = false;
+		r.cn = r.ct = r.cr = 0;
+		r.normalViscousForce = r.shearViscousForce = r.capillaryForce = Vec3::Zero();
+	}
+
+} // namespace kernel
+
+// Evaluates one step of interaction r with the models of Cm (E: track energy; Imp: leave the
+// viscous forces to the implicit solver, describing them in r.implicitBlock).  Returns false when
+// the interaction should be erased (no contact, no bridge); f receives the forces to apply.
+template <class Cm, bool E, bool Imp, class R> bool evaluatePair(const PairConstants& k, R& r, const PairInput& in, PairForces& f, PairEnergy& e)
+{
+	const bool contact = in.S <= 0;
+	r.separation       = in.S;
+	if constexpr (Cm::hasBridge) {
+		if (!kernel::bridgeLives(k, r, in.S)) {
+			kernel::forgetBridge(r);
+			if (!contact) return false;
+		}
+	} else if (!contact) {
+		return false;
+	}
+	f = PairForces();
+	if (contact) {
+		kernel::contact<typename Cm::Damping, E>(k, r, in, f, e);
+	} else if (r.kn != 0) { // the contact just ended: a new one starts without tangential history
+		r.kn = r.ks        = 0;
+		r.shearElastic     = r.normalContactForce = r.shearContactForce = Vec3::Zero();
+		r.shearPotential   = 0;
+	}
+	if constexpr (Cm::hasBridge)
+		if (r.bridge) kernel::bridge<Cm, E, Imp>(k, r, in, f, e);
+	// YADE's sense, so that its stress and force utilities see every force: sustained by body 2
+	Vec3 normal = r.normalContactForce, shear = r.shearContactForce;
+	if constexpr (Cm::Normal::capabilities.enabled) normal += r.normalViscousForce;
+	if constexpr (Cm::Capillary::capabilities.enabled) normal += r.capillaryForce;
+	if constexpr (Cm::Tangential::capabilities.enabled) shear += r.shearViscousForce;
+	r.normalForce = -normal;
+	r.shearForce  = -shear;
 	return true;
 }
 

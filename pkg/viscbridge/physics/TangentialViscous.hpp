@@ -12,6 +12,7 @@
 // rolling; it is negative only for `washino`, whose K is indefinite (P7 is not dissipative).
 #pragma once
 #include "GoldmanCoefficients.hpp"
+#include "SubModel.hpp"
 #include "Vector.hpp"
 #include <algorithm>
 #include <cmath>
@@ -70,24 +71,45 @@ struct TangentialKinematics {
 };
 
 struct NoTangentialViscous {
-	static constexpr bool        enabled = false;
-	static constexpr double      armGapFraction = 0;
-	static constexpr const char* name    = "none";
+	static constexpr const char*                name           = "none";
+	static constexpr Capabilities               capabilities   { false, true, false, false, true };
+	static constexpr std::array<const char*, 0> energyKeys     {};
+	static constexpr double                     armGapFraction = 0;
+	static NoTangentialViscous make(const BridgeInputs&) { return {}; }
+	double                     stepCoefficient(const BridgeInputs&) const { return 0; }
 };
 
 namespace detail {
 	inline double arm(double radius, double gapShare) { return radius > 0 ? radius + gapShare : 0.0; }
 	inline double clampPositive(double x) { return x > 0 ? x : 0.0; }
+	// Weight of a tangential coefficient in P14 (physics.md P14a): a tangential force at arm a moves a
+	// sphere's surface by (1/m)(1 + 2.5 (a/r)²) per unit force; arm r gives the 3.5 of P14.
+	inline double tangentialWeight(double radius1, double radius2, double armGap)
+	{
+		double worst = 1.0;
+		for (double r : { radius1, radius2 })
+			if (r > 0) worst = std::max(worst, (r + armGap) / r);
+		return 1.0 + 2.5 * worst * worst;
+	}
+	inline constexpr std::array<const char*, 2> tangentialEnergyKeys { "viscDissipTangential", "viscDissipRotational" };
 }
 
 // P7 exactly, for reproducing the paper: F = −(C_T u + C_R s), torques r_k n × F.
 // Not dissipative unless C_T = C_R (physics.md §2): a sliding sphere can gain kinetic energy.
 struct WashinoTangential {
-	static constexpr bool        enabled        = true;
-	static constexpr double      armGapFraction = 0; // arms are the radii
-	static constexpr const char* name           = "washino";
+	static constexpr const char*  name           = "washino";
+	static constexpr Capabilities capabilities   { true, false, false, true, false }; // not dissipative: no implicit solve
+	static constexpr auto         energyKeys     = detail::tangentialEnergyKeys;
+	static constexpr double       armGapFraction = 0; // arms are the radii
 	double sixPiMuR, rBar;
 	WashinoTangential(double viscosity, double rBar_) : sixPiMuR(6 * pi * viscosity * rBar_), rBar(rBar_) {}
+	static WashinoTangential make(const BridgeInputs& b) { return WashinoTangential(b.viscosity, b.rBar); }
+	// P14 with C_t = max(C_T, C_R) (physics.md P14a)
+	double stepCoefficient(const BridgeInputs& b) const
+	{
+		const GoldmanCoefficients c = goldmanCoefficients(sixPiMuR, rBar, b.sMin);
+		return 3.5 * detail::clampPositive(std::max(c.translation, c.coupling));
+	}
 
 	TangentialViscousResult evaluate(const TangentialKinematics& k) const
 	{
@@ -114,11 +136,18 @@ struct WashinoTangential {
 // Default model: F = −C_T (u + s̃), s̃ from the mid-gap arms r_k + S/2, torques (r_k + S/2) n × F.
 // Dissipation −P = C_T |u + s̃|² ≥ 0, and a rigidly rotating pair feels no force.
 struct SlipTangential {
-	static constexpr bool        enabled        = true;
-	static constexpr double      armGapFraction = 0.5; // arms reach the mid-gap point
-	static constexpr const char* name           = "slip";
+	static constexpr const char*  name           = "slip";
+	static constexpr Capabilities capabilities   { true, true, false, true, true };
+	static constexpr auto         energyKeys     = detail::tangentialEnergyKeys;
+	static constexpr double       armGapFraction = 0.5; // arms reach the mid-gap point
 	double sixPiMuR, rBar;
 	SlipTangential(double viscosity, double rBar_) : sixPiMuR(6 * pi * viscosity * rBar_), rBar(rBar_) {}
+	static SlipTangential make(const BridgeInputs& b) { return SlipTangential(b.viscosity, b.rBar); }
+	// P14 with the mid-gap arms r + S_min/2, largest at S = S_min (physics.md P14a)
+	double stepCoefficient(const BridgeInputs& b) const
+	{
+		return detail::tangentialWeight(b.radius1, b.radius2, 0.5 * b.sMin) * detail::clampPositive(goldmanCoefficients(sixPiMuR, rBar, b.sMin).translation);
+	}
 
 	TangentialViscousResult evaluate(const TangentialKinematics& k) const
 	{
@@ -147,11 +176,14 @@ struct SlipTangential {
 // it C_R is limited to √(C_T C_W) so the model stays dissipative.  Faithful to a sphere near a wall;
 // for a free pair the torques do not balance the force couple exactly.
 struct GoldmanTangential {
-	static constexpr bool        enabled        = true;
-	static constexpr double      armGapFraction = 0;
-	static constexpr const char* name           = "goldman";
+	static constexpr const char*  name           = "goldman";
+	static constexpr Capabilities capabilities   { true, true, false, true, true };
+	static constexpr auto         energyKeys     = detail::tangentialEnergyKeys;
+	static constexpr double       armGapFraction = 0;
 	double sixPiMuR, rBar;
 	GoldmanTangential(double viscosity, double rBar_) : sixPiMuR(6 * pi * viscosity * rBar_), rBar(rBar_) {}
+	static GoldmanTangential make(const BridgeInputs& b) { return GoldmanTangential(b.viscosity, b.rBar); }
+	double stepCoefficient(const BridgeInputs& b) const { return 3.5 * detail::clampPositive(goldmanCoefficients(sixPiMuR, rBar, b.sMin).translation); }
 
 	TangentialViscousResult evaluate(const TangentialKinematics& k) const
 	{

@@ -1,8 +1,5 @@
 // Time-step limits of the explicit scheme (physics.md §3).
 #pragma once
-#include "GoldmanCoefficients.hpp"
-#include "ModelNames.hpp"
-#include "NormalViscous.hpp"
 #include "Vector.hpp"
 #include <algorithm>
 #include <cmath>
@@ -21,35 +18,8 @@ inline double networkLimit(double d, double kappa)
 inline double dashpotLimit(double d) { return d > 0 ? 2.0 / d : std::numeric_limits<double>::infinity(); }
 inline double springLimit(double kappa) { return kappa > 0 ? 2.0 / std::sqrt(kappa) : std::numeric_limits<double>::infinity(); }
 
-// Weight of a tangential coefficient in P14: a tangential force at arm a moves a sphere's surface
-// by (1/m)(1 + a²m/I) = (1/m)(1 + 2.5 (a/r)²) per unit force; with arm r that is the 3.5 of P14.
-// 'slip' reaches the mid-gap point, a = r + S_min/2 (largest at S = S_min, constant below).
-inline double tangentialWeight(TangentialModel model, double radius1, double radius2, double sMin)
-{
-	if (model != TangentialModel::slip) return 3.5;
-	double worst = 1.0;
-	for (double r : { radius1, radius2 })
-		if (r > 0) worst = std::max(worst, (r + 0.5 * sMin) / r);
-	return 1.0 + 2.5 * worst * worst;
-}
-
-// C_n + w_t C_t at S_min, the largest viscous damping a bridge can exert (coefficients grow as the
-// gap closes and are constant below S_min, P6).  C_t = C_T for slip and goldman, max(C_T, C_R) for
-// washino (physics.md §3), 0 without a tangential model.
-inline double viscousStepCoefficient(NormalModel normal, TangentialModel tangential, double viscosity, double rBar, double volume, double sMin,
-                                     double radius1, double radius2)
-{
-	if (viscosity <= 0) return 0;
-	double c = 0;
-	if (normal == NormalModel::adamsPerchard) c += AdamsPerchard(viscosity, rBar).coefficient(sMin);
-	if (normal == NormalModel::pitois) c += Pitois(viscosity, rBar, volume).coefficient(sMin);
-	if (tangential != TangentialModel::none) {
-		const GoldmanCoefficients g  = goldmanCoefficients(6 * pi * viscosity * rBar, rBar, sMin);
-		const double              ct = tangential == TangentialModel::washino ? std::max(g.translation, g.coupling) : g.translation;
-		c += tangentialWeight(tangential, radius1, radius2, sMin) * std::max(ct, 0.0);
-	}
-	return c;
-}
+// The viscous coefficient of a bridge as the time step sees it (C_n + w_t C_t at S_min, P14a) is
+// each model's stepCoefficient(), summed in PairConstants::viscousStepCoefficient.
 
 // Rayleigh-wave time of a sphere (Thornton; as YADE's utils.RayleighWaveTimeStep):
 // T_R = π r √(ρ/G) / (0.1631 ν + 0.876605), G = E/(2(1+ν)).

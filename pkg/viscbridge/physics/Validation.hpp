@@ -1,6 +1,7 @@
 // Range checks for user parameters: every failure names the parameter, its value and the allowed
 // range (std::invalid_argument, a ValueError in Python).
 #pragma once
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -39,6 +40,18 @@ inline void requireInRange(const std::string& owner, const std::string& paramete
 	const bool okHi = hiOpen ? v < hi : v <= hi;
 	if (!(okLo && okHi) || !std::isfinite(v))
 		rejectValue(owner, parameter, v, std::string(loOpen ? "(" : "[") + formatValue(lo) + ", " + formatValue(hi) + (hiOpen ? ")" : "]"));
+}
+
+// Index of `value` in `names`; otherwise std::invalid_argument naming the parameter and the allowed
+// values (YADE turns it into a Python ValueError).
+template <std::size_t N> std::size_t parseName(const std::string& owner, const std::string& parameter, const std::string& value, const std::array<const char*, N>& names)
+{
+	std::string allowed;
+	for (std::size_t i = 0; i < N; ++i) {
+		if (value == names[i]) return i;
+		allowed += std::string(i ? ", '" : "'") + names[i] + "'";
+	}
+	throw std::invalid_argument(owner + "." + parameter + "='" + value + "' is not a known model; allowed: " + allowed + ".");
 }
 
 } // namespace viscbridge

@@ -5,5 +5,6 @@
 
 namespace viscbridge {
 using Vec3 = Eigen::Matrix<double, 3, 1>;
+using Vec2 = Eigen::Matrix<double, 2, 1>;
 constexpr double pi = 3.14159265358979323846;
 } // namespace viscbridge
