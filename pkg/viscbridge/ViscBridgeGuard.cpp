@@ -121,6 +121,7 @@ void ViscBridgeGuard::takeReference(Real slack)
 	startPos.assign(scene->bodies->size(), Vector3r::Zero());
 	for (const auto& b : *scene->bodies)
 		if (b) startPos[b->getId()] = b->state->pos;
+	lastPos             = startPos; // the walls' work of the very next step counts
 	startEnergy         = mechanicalEnergyNow() + slack;
 	capillaryAtReference = capillaryWorkSoFar();
 	lastSlack           = slack;

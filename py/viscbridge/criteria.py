@@ -36,18 +36,22 @@ import math
 from dataclasses import dataclass, field
 
 from ._checks import choice, non_negative, number, positive, reject
+from . import _registry
 
 __all__ = ['Bound', 'TimeStepCriteria', 'critical_dt', 'rayleigh_time', 'rayleigh_dt',
            'hertz_collision_time', 'hertz_max_overlap', 'hertz_normal_stiffness',
            'mindlin_tangential_stiffness', 'effective_young', 'effective_shear',
            'viscous_decay_time', 'normal_coefficient', 'pitois_volume_factor',
            'tangential_coefficients', 'pair_limit', 'network_limit', 'restitution_damping_ratio',
-           'reduced_radius', 'reduced_mass', 'sphere_mass', 'sphere_volume',
-           'NORMAL_MODELS', 'TANGENTIAL_MODELS', 'INTEGRATIONS']
+           'reduced_radius', 'reduced_mass', 'sphere_mass', 'sphere_volume', 'viscous_step_coefficient',
+           'rupture_distance', 'capillary_force', 'capillary_stiffness', 'capillary_max_stiffness',
+           'NORMAL_MODELS', 'TANGENTIAL_MODELS', 'CAPILLARY_MODELS', 'INTEGRATIONS']
 
-NORMAL_MODELS = ('none', 'adamsPerchard', 'pitois')            # as ModelNames.hpp
-TANGENTIAL_MODELS = ('none', 'washino', 'slip', 'goldman')     # as ModelNames.hpp
-INTEGRATIONS = ('explicit', 'implicit')                        # as ModelNames.hpp
+# The model names are those the C++ registry lists (physics/SubModels.hpp, via _registry.py).
+NORMAL_MODELS = _registry.SLOTS['normalModel']['models']
+TANGENTIAL_MODELS = _registry.SLOTS['tangentialModel']['models']
+CAPILLARY_MODELS = _registry.SLOTS['capillaryModel']['models']
+INTEGRATIONS = _registry.INTEGRATIONS
 
 #: Rayleigh-wave constants (Thornton 2000 after Miller & Pursey 1955), as YADE's
 #: ``utils.RayleighWaveTimeStep`` (Shop::RayleighWaveTimeStep).
@@ -286,6 +290,115 @@ def _goldman(six_pi_mu_r, r_bar, gap):
             'C_W': six_pi_mu_r * (8.0 / 15.0 * L + 0.5089)}
 
 
+def _tangential_weight(radius1, radius2, arm_gap):
+    """P14a: 1 + 2.5 (a/r)² for the worst sphere side, arm a = r + arm_gap (3.5 for arms r)."""
+    worst = max([1.0] + [(r + arm_gap) / r for r in (radius1, radius2) if r])
+    return 1 + ROT * worst * worst
+
+
+def viscous_step_coefficient(radius1, radius2, viscosity, s_min, normal_model='adamsPerchard',
+                             tangential_model='slip', bridge_volume=None):
+    """C_n + w_t C_t at S_min (P14, P14a): a bridge's largest damping as the time step sees it, the
+    same number the C++ models' stepCoefficient() give (``ViscBridgePhys.viscousStepCoefficient``).
+    ``radius2=None`` is a wall.  C_t: C_T for slip and goldman, max(C_T, C_R) for washino; w_t = 3.5,
+    or 1 + 2.5 (1 + S_min/2r)² for slip (mid-gap arms)."""
+    f = 'viscous_step_coefficient'
+    r1 = positive(f, 'radius1', radius1, ' [m]')
+    r2 = None if radius2 is None else positive(f, 'radius2', radius2, ' [m]')
+    mu = non_negative(f, 'viscosity', viscosity, ' [Pa·s]')
+    smin = positive(f, 's_min', s_min, ' [m]')
+    choice(f, 'normal_model', normal_model, NORMAL_MODELS)
+    choice(f, 'tangential_model', tangential_model, TANGENTIAL_MODELS)
+    r_bar = reduced_radius(r1, r2)
+    c = normal_coefficient(r_bar, mu, smin, normal_model, bridge_volume) if normal_model != 'none' else 0.0
+    if tangential_model != 'none':
+        g = _goldman(6 * math.pi * mu * r_bar, r_bar, smin)
+        if tangential_model == 'slip':
+            c += _tangential_weight(r1, r2 or 0.0, 0.5 * smin) * max(g['C_T'], 0.0)
+        elif tangential_model == 'washino':
+            c += 3.5 * max(g['C_T'], g['C_R'], 0.0)
+        else:
+            c += 3.5 * max(g['C_T'], 0.0)
+    return c
+
+
+def rupture_distance(bridge_volume, contact_angle=0.0):
+    """P11 (Lian et al. 1993): S_rup = (1 + θ/2) V^(1/3)."""
+    return (1.0 + 0.5 * contact_angle) * bridge_volume ** (1.0 / 3.0)
+
+
+def _capillary(model, r_bar, surface_tension, contact_angle, bridge_volume):
+    """(force, stiffness) functions of the gap for a capillary model (physics.md §8), with the
+    Derjaguin radius R = 2 r̄; the same formulas as physics/Capillary.hpp."""
+    choice('capillary_force', 'model', model, CAPILLARY_MODELS)
+    R = 2 * r_bar
+    if model == 'willett':  # P19
+        f0, k = 2 * math.pi * R * surface_tension * math.cos(contact_angle), 0.5 * math.sqrt(R / bridge_volume)
+
+        def force(S):
+            x = k * S if S > 0 else 0.0
+            return f0 / (1 + 2.1 * x + 10 * x * x)
+
+        def stiffness(S):
+            if S <= 0:
+                return 0.0
+            x = k * S
+            d = 1 + 2.1 * x + 10 * x * x
+            return f0 * k * (2.1 + 20 * x) / (d * d)
+        return force, stiffness
+    if model == 'rabinovich':  # P20
+        scale, theta, c = 2 * math.pi * R * surface_tension, contact_angle, 2 * bridge_volume / (math.pi * R)
+
+        def immersion(S):
+            if S <= 0:
+                return 0.5 * math.sqrt(c)
+            x = c / (S * S)
+            return 0.5 * S * x / (math.sqrt(1 + x) + 1)
+
+        def force(S):
+            alpha = math.sqrt(2 * immersion(S) / R)
+            first = -math.expm1(-0.5 * math.log1p(c / (S * S))) if S > 0 else 1.0
+            return scale * (math.cos(theta) * first + math.sin(alpha) * math.sin(theta + alpha))
+
+        def stiffness(S):
+            if S <= 0:
+                return 0.0
+            alpha = math.sqrt(2 * immersion(S) / R)
+            x = c / (S * S)
+            root = math.sqrt(1 + x)
+            d_first = -x / (root * (1 + x) * S)
+            d_immersion = 0.5 * x / (root + 1) - 0.5 * x / root
+            return abs(scale * (math.cos(theta) * d_first + math.sin(theta + 2 * alpha) * d_immersion / (R * alpha)))
+        return force, stiffness
+    return (lambda S: 0.0), (lambda S: 0.0)
+
+
+def capillary_force(model, r_bar, surface_tension, contact_angle, bridge_volume, gap):
+    """The capillary pull [N] at gap S (P19 'willett', P20 'rabinovich'; held at its contact value
+    in overlap).  r̄ is the reduced radius (a sphere's radius against a wall)."""
+    return _capillary(model, r_bar, surface_tension, contact_angle, bridge_volume)[0](gap)
+
+
+def capillary_stiffness(model, r_bar, surface_tension, contact_angle, bridge_volume, gap):
+    """|dF/dS| of the capillary pull at gap S (P22; 0 in overlap) [N/m]."""
+    return _capillary(model, r_bar, surface_tension, contact_angle, bridge_volume)[1](gap)
+
+
+def capillary_max_stiffness(model, r_bar, surface_tension, contact_angle, bridge_volume, s_rup):
+    """The largest |dF/dS| over 0 < S ≤ S_rup (P22), as the time step takes it: Willett's in closed
+    form (at s⁺ with 600 s⁺² + 126 s⁺ − 11.18 = 0), Rabinovich's sampled (log-uniform, +5 %)."""
+    force, stiffness = _capillary(model, r_bar, surface_tension, contact_angle, bridge_volume)
+    if model == 'willett':
+        s = (-126 + math.sqrt(126.0 ** 2 + 4 * 600 * 11.18)) / 1200
+        return stiffness(s / (0.5 * math.sqrt(2 * r_bar / bridge_volume)))
+    if model == 'rabinovich':
+        best = stiffness(0.0)
+        for k in range(49):
+            best = max(best, stiffness(s_rup * 10.0 ** (-6.0 * (1 - k / 48.0))))
+        return 1.05 * best
+    return 0.0
+
+
 # ------------------------------------------------------------------------------------------------
 # the stability formulas
 # ------------------------------------------------------------------------------------------------
@@ -413,7 +526,7 @@ def _regime(bridge_dashpot_limit, elastic_limit):
 def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wall=False, s_min=None,
                 s_min_rel=1e-3, bridge_volume=None, bridge_volume_rel=0.01,
                 normal_model='adamsPerchard', tangential_model='slip', integration='explicit',
-                coordination=1, impact_velocity=1.0, restitution=1.0):
+                coordination=1, impact_velocity=1.0, restitution=1.0, capillary_model='none', surface_tension=0.0):
     """All time-step bounds for one representative contact, as a :class:`TimeStepCriteria`.
 
     Geometry: two spheres of radii ``radius`` and ``radius2`` (default: equal), or one sphere and a
@@ -463,6 +576,8 @@ def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wal
     if not z >= 1:
         reject(f, 'coordination', coordination, '>= 1 (contacts per particle)')
     v = positive(f, 'impact_velocity', impact_velocity, ' [m/s]')
+    choice(f, 'capillary_model', capillary_model, CAPILLARY_MODELS)
+    gamma = non_negative(f, 'surface_tension', surface_tension, ' [N/m]')
     en = number(f, 'restitution', restitution, '(0, 1]')
     if not 0 < en <= 1:
         reject(f, 'restitution', restitution, '(0, 1]')
@@ -575,7 +690,13 @@ def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wal
 
     d_bridge = z * (cb_n + w_rot * cb_t) * inv_m
     d = d_bridge + z * (c_n_contact + 3.5 * c_s_contact) * inv_m
-    kappa = z * (k_n + 3.5 * k_t) * inv_m
+    # the capillary pull, a spring of up to k_c along n (P22), with the stiffnesses of the contact
+    k_c = (capillary_max_stiffness(capillary_model, r_bar, gamma, 0.0, volume, rupture_distance(volume))
+           if capillary_model != 'none' and gamma > 0 else 0.0)
+    if k_c > 0:
+        bounds.append(Bound('capillary_spring', 2 * math.sqrt(m_eff / k_c), 'stability',
+                            '2 sqrt(m*/k_c), k_c = max |dF/dS| of the capillary force (P22)', 'collision'))
+    kappa = z * (k_n + 3.5 * k_t + k_c) * inv_m
     bounds.append(Bound(
         'network', network_limit(d, kappa), 'stability',
         '4/(d + sqrt(d^2 + 4 kappa)), d = z(C_n + %s C_t)(1/m_i+1/m_j), kappa = z(k_n + 3.5 k_t)(1/m_i+1/m_j) (P14)'
@@ -588,10 +709,11 @@ def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wal
     parameters = dict(radius=r1, radius2=r2, wall=wall,
                       density=rho, young=e, poisson=nu, viscosity=mu, s_min=smin, bridge_volume=volume,
                       normal_model=normal_model, tangential_model=tangential_model,
-                      integration=integration, coordination=z, impact_velocity=v, restitution=en)
+                      integration=integration, coordination=z, impact_velocity=v, restitution=en,
+                      capillary_model=capillary_model, surface_tension=gamma)
     derived = dict(r_bar=r_bar, m_eff=m_eff, mass1=m1, mass2=m2, e_star=e_star, g_star=g_star,
                    rayleigh_time=t_r, collision_time=t_c, max_overlap=delta, k_n=k_n, k_t=k_t,
                    contact_damping_ratio=beta_c, c_n_contact=c_n_contact, c_s_contact=c_s_contact,
                    C_n=c_n, C_T=c_T if tangential_on else 0.0, C_R=c_R if tangential_on else 0.0,
-                   C_W=c_W if tangential_on else 0.0, t_v=t_v, network_d=d, network_kappa=kappa)
+                   C_W=c_W if tangential_on else 0.0, t_v=t_v, network_d=d, network_kappa=kappa, k_capillary=k_c)
     return TimeStepCriteria(bounds=bounds, parameters=parameters, derived=derived)

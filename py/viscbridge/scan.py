@@ -39,7 +39,7 @@ import sys
 import threading
 import time
 
-from . import criteria
+from . import _registry, criteria
 
 __all__ = ['CASE_DEFAULTS', 'CASE_FIELDS', 'Field', 'Interval', 'ScanError', 'CasesFailed', 'normalize_case',
            'case_key', 'unique_cases', 'one_at_a_time', 'grid', 'bisect_threshold', 'find_critical_dt', 'ResultsFile',
@@ -51,9 +51,13 @@ CASE_DEFAULTS = dict(
     n=300, radius=0.5e-3, sizeRatio=1.0, density=2500.0, young=1e7, poisson=0.3, friction=0.5, seed=5,
     viscosity=1.0, sMinRel=1e-3, bridgeVolumeRel=0.01, contactAngle=0.0,
     normalModel='adamsPerchard', tangentialModel='slip', en=1.0, integration='explicit',
-    steps=2000, perturbation=0.01, tolerance=0.02,
+    steps=2000, perturbation=0.01, tolerance=0.02, capillaryModel='none', surfaceTension=0.0,
 )
-_LIQUID_KEYS = ('viscosity', 'sMinRel', 'bridgeVolumeRel', 'contactAngle', 'normalModel', 'tangentialModel', 'en')
+_LIQUID_KEYS = ('viscosity', 'sMinRel', 'bridgeVolumeRel', 'contactAngle', 'normalModel', 'tangentialModel', 'en',
+                'capillaryModel', 'surfaceTension')
+# Fields added after scans were run: left out of a case's key while at their default, so that
+# those scans still resume.
+_KEY_OMITS_AT_DEFAULT = ('capillaryModel', 'surfaceTension')
 _BED_KEYS = ('n', 'radius', 'sizeRatio', 'density', 'young', 'poisson', 'friction', 'seed')
 
 
@@ -78,6 +82,16 @@ class Interval(collections.namedtuple('Interval', 'lo hi lo_open hi_open')):
 
 Field = collections.namedtuple('Field', 'unit meaning allowed')
 
+
+def _ip2_range(name):
+    """The allowed values of an Ip2 parameter, as the C++ table has them (_registry.PARAMETERS)."""
+    p = _registry.PARAMETERS[name]
+    return Interval(p['lo'], p['hi'] if math.isfinite(p['hi']) else None, p['lo_open'], p['hi_open'])
+
+
+def _ip2_models(slot):
+    return _registry.SLOTS[slot]['models']
+
 #: Unit, meaning and allowed values of every field of CASE_DEFAULTS (allowed: an Interval, or the
 #: names the C++ Ip2 accepts): what ``--help`` lists and :func:`normalize_case` checks.  The liquid
 #: ranges are those of Ip2_FrictMat_FrictMat_ViscBridgePhys, the bed ranges those of scenes.settling.
@@ -90,14 +104,16 @@ CASE_FIELDS = dict(
     poisson=Field('', "Poisson's ratio", Interval(-1, 0.5, True, True)),
     friction=Field('rad', 'friction angle', Interval(0)),
     seed=Field('', 'random seed of the bed and of the perturbation', Interval()),
-    viscosity=Field('Pa·s', 'liquid viscosity (0: dry)', Interval(0)),
-    sMinRel=Field('', 'minimum gap S_min over the reduced radius', Interval(0, 1, lo_open=True)),
-    bridgeVolumeRel=Field('', 'bridge volume over the mean particle volume', Interval(0, 1, lo_open=True)),
-    contactAngle=Field('rad', 'contact angle', Interval(0, math.pi / 2)),
-    normalModel=Field('', 'normal viscous force', criteria.NORMAL_MODELS),
-    tangentialModel=Field('', 'tangential viscous force', criteria.TANGENTIAL_MODELS),
-    en=Field('', 'restitution coefficient of the dry contact', Interval(0, 1, lo_open=True)),
-    integration=Field('', 'time integration of the viscous forces', criteria.INTEGRATIONS),
+    viscosity=Field('Pa·s', 'liquid viscosity (0: dry)', _ip2_range('viscosity')),
+    sMinRel=Field('', 'minimum gap S_min over the reduced radius', _ip2_range('sMinRel')),
+    bridgeVolumeRel=Field('', 'bridge volume over the mean particle volume', _ip2_range('bridgeVolumeRel')),
+    contactAngle=Field('rad', 'contact angle', _ip2_range('contactAngle')),
+    normalModel=Field('', 'normal viscous force', _ip2_models('normalModel')),
+    tangentialModel=Field('', 'tangential viscous force', _ip2_models('tangentialModel')),
+    en=Field('', 'restitution coefficient of the dry contact', _ip2_range('en')),
+    capillaryModel=Field('', 'capillary force of the bridges', _ip2_models('capillaryModel')),
+    surfaceTension=Field('N/m', 'surface tension (0: no capillary force)', _ip2_range('surfaceTension')),
+    integration=Field('', 'time integration of the viscous forces', _registry.INTEGRATIONS),
     steps=Field('', 'steps of each trial at a fixed time step', Interval(1)),
     perturbation=Field('m/s', 'amplitude of the random initial velocities', Interval(0)),
     tolerance=Field('', 'bisection stops at dt_unstable/dt_stable <= 1 + tolerance', Interval(0, lo_open=True)),
@@ -189,7 +205,8 @@ def normalize_case(case):
 
 def case_key(case):
     """A stable identifier of a (normalized) case: what resuming compares."""
-    text = json.dumps(normalize_case(case), sort_keys=True)
+    c = normalize_case(case)
+    text = json.dumps({k: v for k, v in c.items() if not (k in _KEY_OMITS_AT_DEFAULT and v == CASE_DEFAULTS[k])}, sort_keys=True)
     return hashlib.sha1(text.encode()).hexdigest()[:16]
 
 
@@ -365,7 +382,7 @@ class _Trial:
 
 def find_critical_dt(case, cache_dir):
     """Bisection of the critical Δt of one case (runs inside YADE).  Returns a result dict."""
-    from . import criteria
+    from . import _registry, criteria
     case = normalize_case(case)
     started = time.time()
     trial = _Trial(case, dry_bed(case, cache_dir))

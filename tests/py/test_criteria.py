@@ -486,3 +486,59 @@ def test_other_functions_reject():
         C.tangential_coefficients(R, -2, 1e-7)
     with pytest.raises(ValueError, match='s=0'):
         C.tangential_coefficients(R, 1.0, 0)
+
+
+# --- one formula source: the C++ kernels' numbers on a grid, against viscbridge.criteria ---------
+def _golden():
+    import json
+    import os
+    import subprocess
+    tool = os.environ.get('VISCBRIDGE_REGISTRY_TOOL', os.path.join(os.environ.get('VISCBRIDGE_BUILD', 'build'), 'viscbridge_registry'))
+    out = subprocess.run([tool, '--golden'], capture_output=True, text=True, check=True).stdout
+    return [json.loads(line) for line in out.splitlines()]
+
+
+def _r_bar(i):
+    return C.reduced_radius(i['r1'], i['r2'] or None)
+
+
+def _hertz(i, which):
+    R = i['R1'] * i['R2'] / (i['R1'] + i['R2'])
+    if which == 'kno':
+        return 4.0 / 3.0 * C.effective_young(i['E1'], i['nu1'], i['E2'], i['nu2']) * math.sqrt(R)
+    return 8 * math.sqrt(R) * C.effective_shear(i['E1'], i['nu1'], i['E2'], i['nu2'])
+
+
+PYTHON_OF = {
+    'adamsPerchard': lambda i: C.normal_coefficient(_r_bar(i), i['mu'], i['S'], 'adamsPerchard'),
+    'pitois': lambda i: C.normal_coefficient(_r_bar(i), i['mu'], i['S'], 'pitois', i['V']),
+    'pitoisFactor': lambda i: C.pitois_volume_factor(_r_bar(i), i['S'], i['V']),
+    'C_T': lambda i: C.tangential_coefficients(i['r1'], i['mu'], i['S'], i['r2'] or None, wall=not i['r2'])['C_T'],
+    'C_R': lambda i: C.tangential_coefficients(i['r1'], i['mu'], i['S'], i['r2'] or None, wall=not i['r2'])['C_R'],
+    'C_W': lambda i: C.tangential_coefficients(i['r1'], i['mu'], i['S'], i['r2'] or None, wall=not i['r2'])['C_W'],
+    'viscousStepCoefficient': lambda i: C.viscous_step_coefficient(i['r1'], i['r2'] or None, 1.0, i['sMin'], i['normal'],
+                                                                          i['tangential'], i['V']),
+    'capillaryForce': lambda i: C.capillary_force(i['model'], _r_bar(i), i['gamma'], i['theta'], i['V'], i['S']),
+    'capillaryStiffness': lambda i: C.capillary_stiffness(i['model'], _r_bar(i), i['gamma'], i['theta'], i['V'], i['S']),
+    'capillaryMaxStiffness': lambda i: C.capillary_max_stiffness(i['model'], _r_bar(i), i['gamma'], i['theta'], i['V'],
+                                                                        i['sRup']),
+    'dampingRatio': lambda i: C.restitution_damping_ratio(i['e']),
+    'rayleighTime': lambda i: C.rayleigh_time(i['r'], i['rho'], i['E'], i['nu']),
+    'kno': lambda i: _hertz(i, 'kno'),
+    'kso': lambda i: _hertz(i, 'kso'),
+    'networkLimit': lambda i: C.network_limit(i['d'], i['kappa']),
+    'ruptureDistance': lambda i: C.rupture_distance(i['V'], i['theta']),
+}
+
+
+def test_criteria_reproduce_the_kernels_to_1e_12():
+    rows = _golden()
+    assert {r['q'] for r in rows} == set(PYTHON_OF), 'a quantity without its Python counterpart (or the reverse)'
+    worst = {}
+    for r in rows:
+        ours = PYTHON_OF[r['q']](r['in'])
+        ref = r['v']
+        err = 0.0 if ours == ref else abs(ours - ref) / max(abs(ref), 1e-300)
+        worst[r['q']] = max(worst.get(r['q'], 0.0), err)
+    assert all(e <= 1e-12 for e in worst.values()), {k: v for k, v in worst.items() if v > 1e-12}
+    assert len(rows) > 2000

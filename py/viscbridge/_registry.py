@@ -1,0 +1,83 @@
+"""What the C++ side of ViscBridge registers, for the Python tools (generated: do not edit).
+
+Made by `viscbridge_registry --python` from pkg/viscbridge/physics/SubModels.hpp and
+BridgeParameters.hpp; tests/py/test_registry.py fails when it is out of date.
+"""
+import math
+
+#: The slots of a wet contact: the Ip2 attribute that selects the model, its models in order
+#: (the first is 'none'), their capabilities and the O.energy keys each books.
+SLOTS = {
+    'normalModel': dict(
+        default='adamsPerchard',
+        description='normal viscous force F = -C^n v_n (physics.md P3-P6)',
+        models=('none', 'adamsPerchard', 'pitois'),
+        capabilities={
+            'none': dict(enabled=False, dissipative=True, conservative=False, beyondContact=False, implicitCapable=True),
+            'adamsPerchard': dict(enabled=True, dissipative=True, conservative=False, beyondContact=True, implicitCapable=True),
+            'pitois': dict(enabled=True, dissipative=True, conservative=False, beyondContact=True, implicitCapable=True),
+        },
+        energyKeys={
+            'none': (),
+            'adamsPerchard': ('viscDissipNormal',),
+            'pitois': ('viscDissipNormal',),
+        }),
+    'tangentialModel': dict(
+        default='slip',
+        description='tangential viscous force (physics.md P7-P9)',
+        models=('none', 'washino', 'slip', 'goldman'),
+        capabilities={
+            'none': dict(enabled=False, dissipative=True, conservative=False, beyondContact=False, implicitCapable=True),
+            'washino': dict(enabled=True, dissipative=False, conservative=False, beyondContact=True, implicitCapable=False),
+            'slip': dict(enabled=True, dissipative=True, conservative=False, beyondContact=True, implicitCapable=True),
+            'goldman': dict(enabled=True, dissipative=True, conservative=False, beyondContact=True, implicitCapable=True),
+        },
+        energyKeys={
+            'none': (),
+            'washino': ('viscDissipTangential', 'viscDissipRotational'),
+            'slip': ('viscDissipTangential', 'viscDissipRotational'),
+            'goldman': ('viscDissipTangential', 'viscDissipRotational'),
+        }),
+    'en': dict(
+        default='none',
+        description='contact damping of the dry contact, selected by en < 1 (physics.md P2b)',
+        models=('none', 'restitution'),
+        capabilities={
+            'none': dict(enabled=False, dissipative=True, conservative=False, beyondContact=False, implicitCapable=True),
+            'restitution': dict(enabled=True, dissipative=True, conservative=False, beyondContact=False, implicitCapable=True),
+        },
+        energyKeys={
+            'none': (),
+            'restitution': ('contactDampDissip',),
+        }),
+    'capillaryModel': dict(
+        default='none',
+        description='capillary force of the bridge (physics.md P19-P22)',
+        models=('none', 'willett', 'rabinovich'),
+        capabilities={
+            'none': dict(enabled=False, dissipative=False, conservative=True, beyondContact=False, implicitCapable=True),
+            'willett': dict(enabled=True, dissipative=False, conservative=True, beyondContact=True, implicitCapable=True),
+            'rabinovich': dict(enabled=True, dissipative=False, conservative=True, beyondContact=True, implicitCapable=True),
+        },
+        energyKeys={
+            'none': (),
+            'willett': ('capillaryWork',),
+            'rabinovich': ('capillaryWork',),
+        }),
+}
+
+#: The time integrations of the viscous forces (Law2_ScGeom_ViscBridgePhys_HertzViscous.integration).
+INTEGRATIONS = ('explicit', 'implicit')
+
+#: The numeric parameters of Ip2_FrictMat_FrictMat_ViscBridgePhys: unit, default, allowed range.
+PARAMETERS = {
+    'viscosity': dict(unit='Pa·s', default=0.0, lo=0.0, hi=math.inf, lo_open=False, hi_open=True, zero_means='dry'),
+    'bridgeVolume': dict(unit='m³', default=0.0, lo=0.0, hi=math.inf, lo_open=False, hi_open=True, zero_means='bridgeVolumeRel times the particle volume'),
+    'bridgeVolumeRel': dict(unit='', default=0.01, lo=0.0, hi=1.0, lo_open=True, hi_open=False, zero_means=''),
+    'contactAngle': dict(unit='rad', default=0.0, lo=0.0, hi=1.5707963267948966, lo_open=False, hi_open=False, zero_means=''),
+    'sMin': dict(unit='m', default=0.0, lo=0.0, hi=math.inf, lo_open=False, hi_open=True, zero_means='sMinRel times the reduced radius'),
+    'sMinRel': dict(unit='', default=0.001, lo=0.0, hi=1.0, lo_open=True, hi_open=False, zero_means=''),
+    'formationDistance': dict(unit='m', default=0.0, lo=0.0, hi=math.inf, lo_open=False, hi_open=True, zero_means='at contact'),
+    'en': dict(unit='', default=1.0, lo=0.0, hi=1.0, lo_open=True, hi_open=False, zero_means=''),
+    'surfaceTension': dict(unit='N/m', default=0.0, lo=0.0, hi=math.inf, lo_open=False, hi_open=True, zero_means='no capillary force'),
+}
