@@ -16,7 +16,8 @@ RESULTS = os.path.join(os.path.dirname(HERE), 'docs', 'perf')
 
 #: The configurations of the law-cost benchmarks, see engines().
 CONFIGS = ['yade_mindlin', 'vb_dry', 'vb_normal_adamsPerchard', 'vb_normal_pitois', 'vb_tangential_slip',
-           'vb_tangential_goldman', 'vb_tangential_washino', 'vb_contact_damping', 'vb_all', 'yade_implicit_lubrication']
+           'vb_tangential_goldman', 'vb_tangential_washino', 'vb_contact_damping', 'vb_capillary_willett',
+           'vb_capillary_rabinovich', 'vb_all', 'yade_implicit_lubrication']
 
 
 def bed(n, seed=5):
@@ -39,6 +40,8 @@ def engines(config):
         vb_tangential_goldman=dict(viscosity=1.0, normalModel='none', tangentialModel='goldman'),
         vb_tangential_washino=dict(viscosity=1.0, normalModel='none', tangentialModel='washino'),
         vb_contact_damping=dict(viscosity=0.0, en=0.5),
+        vb_capillary_willett=dict(viscosity=0.0, capillaryModel='willett', surfaceTension=0.072),
+        vb_capillary_rabinovich=dict(viscosity=0.0, capillaryModel='rabinovich', surfaceTension=0.072),
         vb_all=dict(viscosity=1.0, normalModel='adamsPerchard', tangentialModel='slip', en=0.5),
     )
     if config == 'yade_mindlin':
