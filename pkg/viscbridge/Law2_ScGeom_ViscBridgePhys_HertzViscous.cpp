@@ -62,7 +62,10 @@ namespace {
 
 		vb::PairForces f;
 		vb::PairEnergy e;
+		[[maybe_unused]] const bool hadBridge = ph.bridge;
 		if (!vb::evaluatePair<Cm, E, Imp>(ph.constants, ph, in, f, e)) return false;
+		if constexpr (Cm::hasBridge)
+			if (!hadBridge && ph.bridge && law.recordFormations) law.noteFormed(id1, id2, ph);
 		if constexpr (Imp) ph.implicitBlockIter = scene->iter;
 		scene->forces.addForce(id1, f.force1);
 		scene->forces.addForce(id2, -f.force1);
@@ -100,6 +103,23 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::addEnergy(Real value, const char* 
 		return;
 	}
 	scene->energy->add(value, name, index, reset);
+}
+
+void Law2_ScGeom_ViscBridgePhys_HertzViscous::noteFormed(Body::id_t id1, Body::id_t id2, const ViscBridgePhys& ph)
+{
+	const Real mobility = ph.mEff > 0 ? 1 / ph.mEff : 0;
+	// rare (a formation), so a critical section costs nothing that matters
+#ifdef YADE_OPENMP
+#pragma omp critical(viscbridge_formed)
+#endif
+	formed.push_back({ id1, id2, ph.viscousStepCoefficient * mobility, ph.capillaryStiffness * mobility });
+}
+
+std::vector<Law2_ScGeom_ViscBridgePhys_HertzViscous::FormedBridge> Law2_ScGeom_ViscBridgePhys_HertzViscous::takeFormed()
+{
+	std::vector<FormedBridge> out;
+	out.swap(formed);
+	return out;
 }
 
 void Law2_ScGeom_ViscBridgePhys_HertzViscous::postLoad(Law2_ScGeom_ViscBridgePhys_HertzViscous&)

@@ -20,6 +20,16 @@ public:
 	// −(work of the capillary forces) since the law was created, with or without energy tracking:
 	// ViscBridgeGuard counts it as energy put in (physics.md P21, E5).
 	OpenMPAccumulator<Real> capillaryWork;
+	// Bridges that formed since ViscBridgeTimeStepper last looked (recorded only once it asks, so
+	// that nothing accumulates without it): bodies and the P14 rates of the new pair, C/m* and k/m*.
+	struct FormedBridge {
+		Body::id_t id1, id2;
+		Real       damping, stiffness;
+	};
+	bool                      recordFormations = false;
+	std::vector<FormedBridge> formed;
+	void                      noteFormed(Body::id_t id1, Body::id_t id2, const ViscBridgePhys& ph);
+	std::vector<FormedBridge> takeFormed();
 	int integrationIndex = 0; // parsed `integration`
 	// Whether O.engines has a ViscBridgeImplicitSolver, checked once per step.
 	std::atomic<long> solverCheckedIter { -1 };

@@ -1,18 +1,12 @@
 #include "ViscBridgeTimeStepper.hpp"
 #include "Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
-#include "ViscBridgePhys.hpp"
-#include "physics/SubModels.hpp"
+#include "SceneValidation.hpp"
+#include "physics/NetworkSpectrum.hpp"
 #include "physics/TimeStepBounds.hpp"
 #include "physics/Validation.hpp"
-#include "SceneValidation.hpp"
-#include <core/InteractionLoop.hpp>
-#include <core/Scene.hpp>
-#include <pkg/common/ElastMat.hpp>
-#include <pkg/common/Sphere.hpp>
+#include <algorithm>
 #include <limits>
-#ifdef YADE_OPENMP
-#include <omp.h>
-#endif
+#include <numeric>
 
 namespace yade {
 
@@ -26,132 +20,16 @@ void ViscBridgeTimeStepper::postLoad(ViscBridgeTimeStepper&)
 		viscbridge::requireInRange(name, "maxGrowth", maxGrowth, 1, false, std::numeric_limits<double>::max(), false);
 		viscbridge::requireInRange(name, "rayleighFraction", rayleighFraction, 0, true, 1, false);
 		viscbridge::requireNonNegative(name, "maxDt", maxDt, " [s]; 0 means no limit");
+		viscbridge::requireInRange(name, "tolerance", tolerance, 0, true, 0.1, false);
+		viscbridge::requireInRange(name, "maxIterations", maxIterations, 1, false, 1e6, false);
+		viscbridge::requireInRange(name, "maxInterval", maxInterval, 1, false, 1e9, false);
 	} catch (const std::invalid_argument&) {
-		safety           = lastValidSafety;
-		maxGrowth        = lastValidGrowth;
-		rayleighFraction = lastValidRayleigh;
-		maxDt            = lastValidMaxDt;
+		safety = lastValidSafety, maxGrowth = lastValidGrowth, rayleighFraction = lastValidRayleigh, maxDt = lastValidMaxDt;
+		tolerance = lastValidTolerance, maxIterations = lastValidIterations, maxInterval = lastValidInterval;
 		throw;
 	}
-	lastValidSafety   = safety;
-	lastValidGrowth   = maxGrowth;
-	lastValidRayleigh = rayleighFraction;
-	lastValidMaxDt    = maxDt;
-}
-
-void NetworkTimeStepBound::evaluate(Scene* sc, bool implicit, Real rayleighFraction)
-{
-	namespace vb    = viscbridge;
-	const Real   inf = std::numeric_limits<Real>::infinity();
-	const size_t n   = sc->bodies->size();
-#ifdef YADE_OPENMP
-	const int threads = omp_get_max_threads();
-#else
-	const int threads = 1;
-#endif
-	// Per-thread sums (3 rates per body), reduced afterwards: the interaction loop runs in parallel
-	// without atomics.  Layout: [thread][body][rate].
-	rates.assign(static_cast<size_t>(threads) * n * 3, 0);
-	const long nIntr = static_cast<long>(sc->interactions->size());
-	const int  vbIndex = ViscBridgePhys::getClassIndexStatic();
-#ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static)
-#endif
-	for (long k = 0; k < nIntr; ++k) {
-		const Interaction* I = (*sc->interactions)[k].get();
-		if (!I->isReal() || I->phys->getClassIndex() != vbIndex) continue;
-		const auto*      ph  = static_cast<const ViscBridgePhys*>(I->phys.get());
-		const Body::id_t id1 = I->getId1(), id2 = I->getId2();
-		// 1/m_i + 1/m_j = 1/m* (a body that does not move under forces has 1/m = 0 in both):
-		// read from the physics, so that the loop touches no body
-		const Real mobility = ph->mEff > 0 ? 1 / ph->mEff : 0;
-		// P14: springs k_n + 3.5 k_s; contact dashpots 2β√(m*k) likewise; bridge dashpots at S_min.
-		// the capillary pull is a spring of stiffness up to capillaryStiffness along n (P22)
-		const Real k = ph->kn + 3.5 * ph->ks + (ph->bridge ? ph->capillaryStiffness : 0);
-		const Real c = (ph->betan > 0 && ph->kn > 0) ? 2 * std::sqrt(ph->mEff) * (ph->betan * std::sqrt(ph->kn) + 3.5 * ph->betas * std::sqrt(ph->ks)) : 0;
-		const Real v = (ph->bridge && !implicit) ? ph->viscousStepCoefficient : 0;
-#ifdef YADE_OPENMP
-		Real* mine = &rates[static_cast<size_t>(omp_get_thread_num()) * n * 3];
-#else
-		Real* mine = &rates[0];
-#endif
-		for (Body::id_t id : { id1, id2 }) {
-			mine[3 * id] += k * mobility;
-			mine[3 * id + 1] += c * mobility;
-			mine[3 * id + 2] += v * mobility;
-		}
-	}
-
-	// The Rayleigh bound depends on radii and materials only: recomputed when the bodies change.
-	const long signature = static_cast<long>(n) * 1000003L + static_cast<long>(sc->materials.size());
-	if (signature != rayleighSignature || rayleighFraction != rayleighFractionUsed) {
-		rayleigh = inf;
-		rayleighBody = -1;
-		for (const auto& b : *sc->bodies) {
-			if (!b || !b->isDynamic()) continue;
-			const auto* sphere = dynamic_cast<const Sphere*>(b->shape.get());
-			const auto* mat    = dynamic_cast<const FrictMat*>(b->material.get());
-			if (!sphere || !mat) continue;
-			const Real t = rayleighFraction * vb::rayleighTime(sphere->radius, mat->density, mat->young, mat->poisson);
-			if (t < rayleigh) {
-				rayleigh     = t;
-				rayleighBody = b->getId();
-			}
-		}
-		rayleighSignature    = signature;
-		rayleighFractionUsed = rayleighFraction;
-	}
-
-	// Per body: its own limit; the smallest over all bodies (and which body).
-	collision = viscous = combined = inf;
-	criticalBody                    = -1;
-	const long nBodies              = static_cast<long>(n);
-#ifdef YADE_OPENMP
-#pragma omp parallel
-#endif
-	{
-		Real       myCollision = inf, myViscous = inf, myCombined = inf;
-		Body::id_t myCritical  = -1;
-#ifdef YADE_OPENMP
-#pragma omp for schedule(static) nowait
-#endif
-		for (long id = 0; id < nBodies; ++id) {
-			const shared_ptr<Body>& b = (*sc->bodies)[id];
-			if (!b || !b->isDynamic() || !(b->state->mass > 0)) continue;
-			Real stiffness = 0, contactDamping = 0, damping = 0;
-			for (int t = 0; t < threads; ++t) {
-				const Real* r = &rates[(static_cast<size_t>(t) * n + id) * 3];
-				stiffness += r[0];
-				contactDamping += r[1];
-				damping += r[2];
-			}
-			Real own = vb::springLimit(stiffness);
-			if (contactDamping > 0) own = vb::networkLimit(contactDamping, stiffness);
-			myCollision          = std::min(myCollision, own);
-			myViscous            = std::min(myViscous, vb::dashpotLimit(damping));
-			const Real bodyBound = std::min(own, vb::networkLimit(contactDamping + damping, stiffness));
-			if (bodyBound < myCombined) {
-				myCombined = bodyBound;
-				myCritical = static_cast<Body::id_t>(id);
-			}
-		}
-#ifdef YADE_OPENMP
-#pragma omp critical(viscbridge_stepper_min)
-#endif
-		{
-			collision = std::min(collision, myCollision);
-			viscous   = std::min(viscous, myViscous);
-			if (myCombined < combined || (myCombined == combined && myCritical >= 0 && (criticalBody < 0 || myCritical < criticalBody))) {
-				combined     = myCombined;
-				criticalBody = myCritical;
-			}
-		}
-	}
-	collision = std::min(collision, rayleigh);
-	if (rayleigh < combined) {
-		combined     = rayleigh;
-		criticalBody = rayleighBody;
-	}
+	lastValidSafety = safety, lastValidGrowth = maxGrowth, lastValidRayleigh = rayleighFraction, lastValidMaxDt = maxDt;
+	lastValidTolerance = tolerance, lastValidIterations = maxIterations, lastValidInterval = maxInterval;
 }
 
 bool ViscBridgeTimeStepper::isActivated()
@@ -163,20 +41,113 @@ bool ViscBridgeTimeStepper::isActivated()
 	return TimeStepper::isActivated();
 }
 
+bool ViscBridgeTimeStepper::viscousImplicit() const { return viscousIntegrationIsImplicit(scene); }
+
+Real ViscBridgeTimeStepper::limitNow() const
+{
+	// both are below the true limit: the corrected spectral estimate, and P14 (rigorous)
+	return std::max(viscbridge::networkLimit(modeD + addedD, modeK + addedK), hP14);
+}
+
+void ViscBridgeTimeStepper::fullUpdate(Scene* sc)
+{
+	const bool implicit = viscousImplicit();
+	bound.evaluate(sc, implicit, rayleighFraction);
+	network.gather(sc, !implicit);
+	viscbridge::VecX mode;
+	network.modeFromIds(modeById, mode);
+	const viscbridge::StabilityEstimate e = viscbridge::stabilityLimit(network.op, mode, tolerance, maxIterations);
+	network.modeToIds(mode, modeById);
+	// the quotients scaled up by the residual: networkLimit of them is h/(1 + ‖r‖/θ) (P18)
+	modeD = e.d * (1 + e.residual), modeK = e.k * (1 + e.residual);
+	hP14  = bound.network;
+	addedD = addedK = 0;
+	addedDamping.assign(sc->bodies->size(), 0);
+	addedStiffness.assign(sc->bodies->size(), 0);
+	const Real h = limitNow();
+	// the interval grows while the limit stays put and shrinks when it moves
+	if (hAtUpdate > 0 && std::isfinite(h) && std::isfinite(hAtUpdate)) {
+		const Real change = std::abs(h - hAtUpdate) / hAtUpdate;
+		if (change < 0.01) updateInterval = std::min(2 * updateInterval, maxInterval);
+		else if (change > 0.05) updateInterval = std::max(updateInterval / 2, 1);
+	}
+	hAtUpdate      = h;
+	lastUpdateIter = sc->iter;
+	iterations     = e.iterations;
+	residual       = e.residual;
+	++updates;
+	modeDamping    = e.d;
+	modeStiffness  = e.k;
+	dtRitz         = safety * e.h;
+	describeMode();
+	if (auto* law = const_cast<Law2_ScGeom_ViscBridgePhys_HertzViscous*>(findViscBridgeFunctors(sc).law)) law->recordFormations = true;
+}
+
+void ViscBridgeTimeStepper::addFormedBridges(Scene* sc)
+{
+	auto* law = const_cast<Law2_ScGeom_ViscBridgePhys_HertzViscous*>(findViscBridgeFunctors(sc).law);
+	if (!law) return;
+	const bool implicit = viscousImplicit();
+	for (const auto& f : law->takeFormed()) {
+		const Real d = implicit ? 0 : f.damping, k = f.stiffness;
+		for (Body::id_t id : { f.id1, f.id2 }) {
+			const shared_ptr<Body>& b = Body::byId(id, sc);
+			if (!b || !b->isDynamic() || static_cast<size_t>(id) >= addedDamping.size()) continue;
+			addedDamping[id] += d, addedStiffness[id] += k;
+			// Weyl: the top eigenvalue grows by at most the largest row sum the new pairs add
+			addedD = std::max(addedD, addedDamping[id]), addedK = std::max(addedK, addedStiffness[id]);
+			hP14   = std::min(hP14, bound.bodyLimit(id, addedDamping[id], addedStiffness[id]));
+		}
+	}
+}
+
+void ViscBridgeTimeStepper::describeMode()
+{
+	std::vector<std::pair<Real, Body::id_t>> share;
+	Real                                     total = 0;
+	for (std::size_t i = 0; i < modeById.size(); ++i) {
+		const Real s = modeById[i].squaredNorm();
+		if (s > 0) share.push_back({ s, static_cast<Body::id_t>(i) }), total += s;
+	}
+	std::sort(share.begin(), share.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+	criticalBodies.clear();
+	Real carried = 0;
+	for (const auto& s : share) {
+		if (carried >= 0.9 * total || criticalBodies.size() >= 10) break;
+		criticalBodies.push_back(s.second);
+		carried += s.first;
+	}
+}
+
 void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 {
 	const size_t signature = sceneSignature(sc);
-	if (signature != validatedSignature) { // e.g. a sphere of radius 0 would give dt = 0 or NaN
+	const bool   changed   = signature != validatedSignature;
+	if (changed) { // e.g. a sphere of radius 0 would give dt = 0 or NaN
 		validateScene(sc, false);
 		validatedSignature = signature;
 	}
-	bound.evaluate(sc, viscousIntegrationIsImplicit(sc), rayleighFraction);
-	criticalBody = bound.criticalBody;
-	dtCollision  = safety * bound.collision;
-	dtViscous    = safety * bound.viscous;
-	dtBound      = safety * bound.combined;
-	governing    = dtViscous < dtCollision ? "viscous" : "collision";
-	Real dt      = dtBound;
+	if (changed || lastUpdateIter < 0 || sc->iter - lastUpdateIter >= updateInterval) fullUpdate(sc);
+	else {
+		addFormedBridges(sc);
+		if (limitNow() < 0.9 * hAtUpdate) fullUpdate(sc); // the new bridges moved the limit: look again
+	}
+	const Real network = limitNow(), h = std::min(network, bound.rayleigh);
+	dtNetwork   = safety * network;
+	dtP14       = safety * hP14;
+	dtBound     = safety * h;
+	dtCollision = safety * bound.collision;
+	dtViscous   = modeD > 0 ? safety * 2 / modeD : std::numeric_limits<Real>::infinity();
+	errorBound  = dtRitz > 0 && std::isfinite(dtRitz) ? std::max<Real>(0, (dtRitz - dtNetwork) / dtRitz) : 0;
+	if (bound.rayleigh <= network) {
+		governing    = "rayleigh";
+		criticalBody = bound.rayleighBody;
+	} else {
+		// which term of P18 dominates the top mode at its limit: the damping's 2h·d or the stiffness' h²·k
+		governing    = 2 * network * modeD >= network * network * modeK ? "viscous-network" : "collision";
+		criticalBody = !criticalBodies.empty() ? criticalBodies.front() : bound.criticalBody;
+	}
+	Real dt = dtBound;
 	if (maxDt > 0) dt = std::min(dt, maxDt);
 	if (!std::isfinite(dt)) return; // nothing to bound (no dynamic spheres, no contacts): keep dt
 	if (!(dt > 0))

@@ -1,26 +1,30 @@
-// ViscBridgeTimeStepper: sets O.dt from the live contacts and bridges (physics.md §3, P14).
+// ViscBridgeTimeStepper: sets O.dt at a fraction of the stability limit of the live contact network
+// (physics.md §7, P16–P18), bracketed by the rigorous bound P14 (§3).
 #pragma once
+#include "NetworkOfScene.hpp"
+#include "NetworkTimeStepBound.hpp"
 #include <core/TimeStepper.hpp>
 
 namespace yade {
 
-// P14 over the live interactions (without the safety factor); see ViscBridgeTimeStepper.
-struct NetworkTimeStepBound {
-	Real       collision = 0, viscous = 0, combined = 0; // [s], inf when nothing bounds them
-	Body::id_t criticalBody = -1;
-	// per-thread, per-body rates of P14, kept to be reused between calls
-	std::vector<Real> rates;
-	// the smallest rayleighFraction × T_R over the spheres, cached while the bodies stay the same
-	Real       rayleigh = 0, rayleighFractionUsed = -1;
-	Body::id_t rayleighBody = -1;
-	long       rayleighSignature = -1;
-	void              evaluate(Scene* scene, bool viscousImplicit, Real rayleighFraction);
-};
-
 class ViscBridgeTimeStepper : public TimeStepper {
-	NetworkTimeStepBound bound;
-	size_t               validatedSignature = 0; // sceneSignature() of the last validated scene
-	Real              lastValidSafety = 0.5, lastValidGrowth = 1.1, lastValidRayleigh = 0.4, lastValidMaxDt = 0;
+	NetworkTimeStepBound          bound;   // P14 and the Rayleigh bound
+	NetworkOfScene                network; // the operator of P16–P18
+	std::vector<viscbridge::Vec6> modeById; // the last dominant mode, per body id (the warm start)
+	size_t                        validatedSignature = 0; // sceneSignature() of the last validated scene
+	// what the last full update found, and what bridges formed since have added (Weyl: the top
+	// eigenvalue grows at most by the new pairs' largest row sum, as P14 counts it)
+	Real                          modeD = 0, modeK = 0, hP14 = 0, hAtUpdate = 0, addedD = 0, addedK = 0;
+	std::vector<Real>             addedDamping, addedStiffness; // per body id, since the last full update
+	long                          lastUpdateIter = -1;
+	Real lastValidSafety = 0.5, lastValidGrowth = 1.1, lastValidRayleigh = 0.4, lastValidMaxDt = 0, lastValidTolerance = 1e-3;
+	int  lastValidIterations = 30, lastValidInterval = 50;
+
+	bool viscousImplicit() const;
+	void fullUpdate(Scene*);
+	void addFormedBridges(Scene*); // the corrections between full updates
+	Real limitNow() const;         // the bracketed limit with the corrections [s]
+	void describeMode();
 
 public:
 	void computeTimeStep(Scene*) override;
@@ -28,31 +32,47 @@ public:
 	void postLoad(ViscBridgeTimeStepper&);
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR(ViscBridgeTimeStepper, TimeStepper,
-		"Sets :yref:`O.dt<Omega.dt>` = safety × the rigorous network bound P14 of physics §3, "
-		"evaluated over the live interactions every timeStepUpdateInterval steps:\n\n"
-		"$\\Delta t \\le \\min_i 4/(d_i+\\sqrt{d_i^2+4\\kappa_i})$, with "
-		"$d_i=\\sum_j (C_n + w_t C_t)(1/m_i+1/m_j)$ and $\\kappa_i=\\sum_j (k_n+3.5k_s)(1/m_i+1/m_j)$ "
-		"($1/m_j=0$ for walls, facets, boxes and fixed bodies). The viscous coefficients are taken at "
-		"$S_{min}$, where they are largest, for every existing bridge "
-		"(:yref:`ViscBridgePhys.viscousStepCoefficient`); elastic and contact-damping terms use the "
-		"current Hertz–Mindlin stiffness. Springs and dashpots are combined (P13/P14), not "
-		"min()-ed: the min of the separate limits is up to 1.6× too optimistic. Unlike "
-		":yref:`GlobalStiffnessTimeStepper` (whose viscous branch sits 1.3–1.8× above the true limit), "
-		"the bound is sufficient; on real packings it is 1.5–3× below the true limit.\n\n"
-		"Spheres also obey rayleighFraction × their Rayleigh time (the usual collision criterion), so "
-		"that collisions are resolved before any contact exists. With "
-		":yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous.integration` = 'implicit', the viscous part is "
-		"dropped (P15) and the collision part governs. The default safety 0.5 puts a dashpot-dominated "
-		"pair at $t_v$: stable (limit $2t_v$) and free of spurious rebound.",
-		((Real,safety,0.5,Attr::triggerPostLoad,"Fraction of the bound used as time step, in (0, 1]."))
-		((Real,maxGrowth,1.1,Attr::triggerPostLoad,"Largest factor by which dt may grow in one update, >= 1 (decreases apply at once)."))
+		"Sets :yref:`O.dt<Omega.dt>` = safety × the stability limit of the explicit scheme on the live "
+		"contact network (physics.md §7): the smallest $h$ with $\\lambda_{max}(h^2\\tilde K + 2h\\tilde D) = 4$ "
+		"(P18), $\\tilde D$, $\\tilde K$ the mass-scaled damping and stiffness of every bridge and contact — "
+		"the bridges' viscous coefficients at $S_{min}$, where they are largest, the contact dashpots and "
+		"the Hertz–Mindlin tangent stiffness now, the capillary force's largest $|dF/dS|$. The top mode "
+		"is found matrix-free (one pass over the interactions per product) by LOBPCG, warm-started from "
+		"the previous mode; the estimate is corrected upwards by its residual and bracketed from below by "
+		"the rigorous bound P14 ($\\Delta t \\le \\min_i 4/(d_i+\\sqrt{d_i^2+4\\kappa_i})$), which is "
+		"1.5–3× lower on packings. Spheres also obey rayleighFraction × their Rayleigh time.\n\n"
+		"The full computation runs every updateInterval steps, an interval that doubles while the limit "
+		"stays within 1 % and halves when it moves by more than 5 % (1 … maxInterval). In between, every "
+		"step takes the bridges that formed (the law reports them) into account with a rigorous "
+		"correction (Weyl's inequality with their P14 rates), and a full update follows as soon as they "
+		"lower the limit by 10 %. With :yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous.integration` = "
+		"'implicit' the bridges' viscous damping leaves the operator (P15).\n\n"
+		"The default safety 0.5 puts a dashpot-dominated mode at $1/\\lambda_{max}$ of its damping, the "
+		"limit below which a viscous mode decays without reversing (no spurious rebound; for an equal "
+		"pair $t_v$, P12).",
+		((Real,safety,0.5,Attr::triggerPostLoad,"Fraction of the stability limit used as time step, in (0, 1]."))
+		((Real,maxGrowth,1.1,Attr::triggerPostLoad,"Largest factor by which dt may grow in one step, >= 1 (decreases apply at once)."))
 		((Real,rayleighFraction,0.4,Attr::triggerPostLoad,"Collision bound of a sphere: rayleighFraction × its Rayleigh time T_R, in (0, 1] (0.4 × safety 0.5 = the customary 0.2 T_R)."))
 		((Real,maxDt,0,Attr::triggerPostLoad,"Upper limit of dt [s], >= 0; 0: none."))
-		((Real,dtCollision,0,Attr::readonly,"safety × the collision bound alone: springs and contact damping (P14 with the bridges left out) and the Rayleigh bound [s]."))
-		((Real,dtViscous,0,Attr::readonly,"safety × the viscous bound alone, $\\min_i 2/d_i$ over the bridges (inf without bridges or with implicit integration) [s]. For an equal pair held below $S_{min}$ it is safety × $2t_v$."))
-		((Real,dtBound,0,Attr::readonly,"safety × the combined bound (before the growth limit) [s]."))
-		((string,governing,"collision",Attr::readonly,"'viscous' if dtViscous < dtCollision, else 'collision'."))
-		((int,criticalBody,-1,Attr::readonly,"Id of the body whose bound is the smallest (-1 if none)."))
+		((Real,tolerance,1e-3,Attr::triggerPostLoad,"Relative residual $\\|r\\|/\\theta$ at which the mode iteration stops, in (0, 0.1]; it is also the width of the error bracket's upper side."))
+		((int,maxIterations,30,Attr::triggerPostLoad,"Operator products a full update may spend, >= 1 (a warm start needs one or two)."))
+		((int,maxInterval,50,Attr::triggerPostLoad,"Most steps between two full updates, >= 1."))
+		((Real,dtCollision,0,Attr::readonly,"safety × the collision bound: springs and contact damping (P14 without the bridges) and the Rayleigh bound [s]."))
+		((Real,dtViscous,0,Attr::readonly,"safety × the limit the top mode's damping alone would allow, $2/d$ with $d=y^T\\tilde Dy$ (inf without bridges or with implicit integration) [s]."))
+		((Real,dtNetwork,0,Attr::readonly,"safety × the network limit the time step uses: the spectral estimate corrected by its residual, at least P14 [s]."))
+		((Real,dtP14,0,Attr::readonly,"safety × the rigorous bound P14 [s]."))
+		((Real,dtRitz,0,Attr::readonly,"safety × the limit of the mode's Rayleigh quotients: an upper bound of the true limit (the true one lies between dtNetwork and dtRitz) [s]."))
+		((Real,dtBound,0,Attr::readonly,"safety × the combined bound, before the growth limit and maxDt [s]."))
+		((Real,errorBound,0,Attr::readonly,"Relative width of the bracket of the true limit: (dtRitz − dtNetwork)/dtRitz."))
+		((string,governing,"collision",Attr::readonly,"What sets dt: 'viscous-network' (a mode of the network dominated by the bridges' damping), 'collision' (one dominated by contact stiffness), or 'rayleigh' (the spheres' Rayleigh bound)."))
+		((int,criticalBody,-1,Attr::readonly,"Id of the body with the largest share of the top mode (or of the smallest P14 or Rayleigh bound when that governs), -1 if none."))
+		((vector<int>,criticalBodies,,Attr::readonly,"Ids of the bodies carrying 90 % of the top mode, largest share first (at most 10)."))
+		((int,iterations,0,Attr::readonly,"Operator products of the last full update."))
+		((Real,residual,0,Attr::readonly,"Relative residual of the mode at the last full update."))
+		((long,updates,0,Attr::readonly,"Full updates so far."))
+		((int,updateInterval,1,Attr::readonly,"Steps between full updates now."))
+		((Real,modeDamping,0,Attr::readonly,"The top mode's damping quotient $y^T\\tilde Dy$ [1/s]."))
+		((Real,modeStiffness,0,Attr::readonly,"The top mode's stiffness quotient $y^T\\tilde Ky$ [1/s²]."))
 		,
 		/* ctor */ timeStepUpdateInterval = 1;
 	);

@@ -220,7 +220,7 @@ def test_yade_batch_runs_the_table_and_results_are_collected(tmp_path):
     assert sorted(r['viscosity'] for r in rows) == [10.0, 30.0]
     for r in rows:
         assert r['dt_stable'] < r['dt_critical'] < r['dt_unstable'] <= r['dt_stable'] * 1.2 * (1 + 1e-12)
-        assert r['governing'] == 'viscous'
+        assert r['governing'] == 'viscous-network'
     # Δt_crit ∝ 1/μ once viscous forces dominate: ×3 viscosity, ÷3 step (within the bracket width)
     by_mu = {r['viscosity']: r['dt_critical'] for r in rows}
     assert by_mu[10.0] / by_mu[30.0] == pytest.approx(3.0, rel=0.25)

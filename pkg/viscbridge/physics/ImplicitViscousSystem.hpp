@@ -9,6 +9,7 @@
 // is nearly exact and CG converges in a few iterations.
 #pragma once
 #include "PairKernel.hpp"
+#include "ViscousBlock.hpp"
 #include "Vector.hpp"
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -20,7 +21,6 @@
 
 namespace viscbridge {
 
-using Vec6  = Eigen::Matrix<double, 6, 1>;
 using Mat3  = Eigen::Matrix<double, 3, 3>;
 using Mat6  = Eigen::Matrix<double, 6, 6>;
 using VecXd = Eigen::VectorXd;
@@ -38,24 +38,6 @@ struct SystemBridge {
 	ViscousBlock block;
 	Vec3         shiftVel = Vec3::Zero(); // periodic: body 2's image moves with this extra velocity
 };
-
-// The "resistance" of one bridge for given velocities: R with D·q = R (the forces are −R).
-struct BridgeResistance {
-	Vec3 force1, torque1, force2, torque2;
-};
-
-// The bridge map for given end velocities (see ViscousBlock): forces −force_k, torques −torque_k.
-inline BridgeResistance bridgeResistance(const ViscousBlock& b, const Vec3& v1, const Vec3& w1, const Vec3& v2, const Vec3& w2, const Vec3& shiftVel)
-{
-	const Vec3   dv = (v1 + w1.cross(b.r1)) - (v2 + w2.cross(b.r2) + shiftVel);
-	const double vn = b.n.dot(dv);
-	const Vec3   u  = dv - vn * b.n;
-	const Vec3   s  = (b.a1 * w1 + b.a2 * w2).cross(b.n);
-	const auto&  m  = b.resistance;
-	const Vec3   F  = b.cn * vn * b.n + m.m11 * u + m.m12 * s;
-	const Vec3   G  = m.m21 * u + m.m22 * s;
-	return { F, b.a1 * b.n.cross(G) + b.r1.cross(F), -F, b.a2 * b.n.cross(G) - b.r2.cross(F) };
-}
 
 struct SolveReport {
 	int    iterations = 0;

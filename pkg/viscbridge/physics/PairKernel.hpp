@@ -18,6 +18,7 @@
 #pragma once
 #include "PairConstants.hpp"
 #include "PairGeometry.hpp"
+#include "ViscousBlock.hpp"
 #include "Vector.hpp"
 #include <cmath>
 
@@ -50,18 +51,6 @@ struct PairForces {
 struct PairEnergy {
 	double dissipNormal = 0, dissipTangential = 0, dissipRotational = 0, dissipContactDamping = 0, dissipFriction = 0;
 	double elasticPotential = 0, capillaryWork = 0;
-};
-
-// A bridge's damping as a linear map, for the implicit solver (P15): with dv = V1 − V2 (a wall side's
-// V at its anchor, r_k from its centre), u = (I − nnᵀ)dv and s = (a1 ω1 + a2 ω2) × n, the force on
-// body 1 is −(cn (n·dv) n + m11 u + m12 s), the torque on sphere side k is a_k n × (−(m21 u + m22 s)).
-struct ViscousBlock {
-	bool                 valid = false;
-	Vec3                 n     = Vec3::Zero();
-	double               cn    = 0;
-	TangentialResistance resistance;
-	double               a1 = 0, a2 = 0;                      // arms of the sphere sides (0 for a wall side)
-	Vec3                 r1 = Vec3::Zero(), r2 = Vec3::Zero(); // wall anchor − wall centre (0 for a sphere side)
 };
 
 // A plain Record (for the kernel tests and any use without YADE).

@@ -1,0 +1,166 @@
+// The stability limit of the explicit scheme on a whole contact network (physics.md §7, P16–P18).
+//
+// YADE's leapfrog evaluates the viscous forces with the half-step velocities, so the linearised
+// update of the bed is stable iff Δt < h*, the smallest h with λ_max(h²K̃ + 2hD̃) = 4 (P18), where
+// K̃ = M^-1/2 K M^-1/2 and D̃ = M^-1/2 D M^-1/2 are the network's stiffness and damping in
+// mass-scaled coordinates.  The operator is applied matrix-free, pair by pair (PairMaps.hpp), never
+// assembled; its top eigenpair is found by LOBPCG (block size 1), warm-started from the previous
+// mode, with h re-solved from the Ritz vector's quotients at every iteration: on a common
+// eigenvector y, h²(yᵀK̃y) + 2h(yᵀD̃y) = 4 is P13 in mass-scaled form, h = networkLimit(d, k).
+//
+// What the estimate guarantees: a Ritz quotient is a lower bound of λ_max, so the h it gives is an
+// upper bound of h* (unsafe side); with the residual r, λ_max ≤ θ + ‖r‖ once the iteration has found
+// the top eigenvector, and since λ(th) ≤ t λ(h) for t ≤ 1, h/(1 + ‖r‖/θ) is then below h*.  The
+// caller brackets it further with P14, which is rigorous: h* ∈ [max(hSafe, hP14), hRitz].
+#pragma once
+#include "TimeStepBounds.hpp"
+#include "ViscousBlock.hpp"
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace viscbridge {
+
+using VecX = Eigen::VectorXd;
+
+// One pair of the network: compact body indices (−1 for a side without degrees of freedom, such as
+// a wall) and its damping and stiffness maps.
+struct NetworkPair {
+	int          body1, body2;
+	ViscousBlock damping, stiffness;
+};
+
+// D̃ and K̃ of a network: per body, the scale 1/√m (×3) and 1/√I (×3) that makes the coordinates
+// mass-scaled (0 for a blocked component), and its pairs.
+class NetworkOperator {
+public:
+	std::vector<Vec6> scale;
+	std::vector<NetworkPair>                 pairs;
+
+	std::size_t size() const { return 6 * scale.size(); }
+
+	// Dy = D̃ y and Ky = K̃ y in one pass over the pairs.
+	void apply(const VecX& y, VecX& Dy, VecX& Ky) const
+	{
+		Dy.setZero(size());
+		Ky.setZero(size());
+		for (const NetworkPair& p : pairs) {
+			Vec6 v1 = Vec6::Zero(), v2 = Vec6::Zero();
+			if (p.body1 >= 0) v1 = scale[p.body1].cwiseProduct(y.segment<6>(6 * p.body1));
+			if (p.body2 >= 0) v2 = scale[p.body2].cwiseProduct(y.segment<6>(6 * p.body2));
+			accumulate(p.damping, p, v1, v2, Dy);
+			accumulate(p.stiffness, p, v1, v2, Ky);
+		}
+	}
+
+private:
+	void accumulate(const ViscousBlock& b, const NetworkPair& p, const Vec6& v1, const Vec6& v2, VecX& out) const
+	{
+		if (!b.valid) return;
+		const BridgeResistance R = bridgeResistance(b, v1.head<3>(), v1.tail<3>(), v2.head<3>(), v2.tail<3>(), Vec3::Zero());
+		if (p.body1 >= 0) out.segment<6>(6 * p.body1) += scale[p.body1].cwiseProduct((Vec6() << R.force1, R.torque1).finished());
+		if (p.body2 >= 0) out.segment<6>(6 * p.body2) += scale[p.body2].cwiseProduct((Vec6() << R.force2, R.torque2).finished());
+	}
+};
+
+struct StabilityEstimate {
+	double h      = std::numeric_limits<double>::infinity(); // from the Ritz vector: an upper bound of h*
+	double hSafe  = std::numeric_limits<double>::infinity(); // h/(1 + ‖r‖/θ), below h* once converged
+	double d      = 0, k = 0;                                // the mode's quotients yᵀD̃y, yᵀK̃y [1/s, 1/s²]
+	double residual = 0;                                     // ‖r‖/θ of the last iteration
+	int    iterations = 0;                                   // operator products spent
+	bool   converged  = false;
+};
+
+namespace detail {
+	// A vector together with its two images.
+	struct Imaged {
+		VecX x, Dx, Kx;
+	};
+	inline void orthogonalise(Imaged& w, const Imaged& against)
+	{
+		const double c = against.x.dot(w.x);
+		w.x -= c * against.x, w.Dx -= c * against.Dx, w.Kx -= c * against.Kx;
+	}
+	inline bool normalise(Imaged& w)
+	{
+		const double n = w.x.norm();
+		if (!(n > 1e-12)) return false;
+		w.x /= n, w.Dx /= n, w.Kx /= n;
+		return true;
+	}
+}
+
+// The top mode of h²K̃ + 2hD̃ at the h where its eigenvalue is 4 (P18).  `mode` is the start
+// (normalised inside; random if empty or zero) and receives the dominant vector.
+inline StabilityEstimate stabilityLimit(const NetworkOperator& op, VecX& mode, double tolerance, int maxIterations)
+{
+	StabilityEstimate est;
+	const std::size_t n = op.size();
+	if (n == 0 || op.pairs.empty()) return est;
+	detail::Imaged x, w, p;
+	x.x = mode.size() == static_cast<long>(n) ? mode : VecX();
+	if (x.x.size() != static_cast<long>(n) || !(x.x.norm() > 0)) {
+		std::mt19937                           seeded(12345); // a fixed start: the same result on every run
+		std::uniform_real_distribution<double> u(-1, 1);
+		x.x.resize(n);
+		for (std::size_t i = 0; i < n; ++i) x.x[i] = u(seeded);
+	}
+	x.x.normalize();
+	op.apply(x.x, x.Dx, x.Kx);
+	++est.iterations;
+	bool haveP = false;
+	for (;;) {
+		est.d = x.x.dot(x.Dx), est.k = x.x.dot(x.Kx);
+		est.h = networkLimit(est.d, est.k);
+		if (!std::isfinite(est.h)) break; // the start sees nothing: no bound (the caller has P14)
+		const double h = est.h, theta = 4.0; // at this h the quotient is exactly 4
+		const VecX   r = h * h * x.Kx + 2 * h * x.Dx - theta * x.x;
+		est.residual  = r.norm() / theta;
+		if (est.residual <= tolerance) {
+			est.converged = true;
+			break;
+		}
+		if (est.iterations >= maxIterations) break;
+		// LOBPCG: Rayleigh–Ritz on span{x, r, p}; the images of every vector are kept, so the subspace
+		// can be re-weighted for a new h without new products
+		w.x = r;
+		op.apply(w.x, w.Dx, w.Kx);
+		++est.iterations;
+		detail::orthogonalise(w, x);
+		if (!detail::normalise(w)) break;
+		std::vector<const detail::Imaged*> basis { &x, &w };
+		if (haveP) {
+			detail::orthogonalise(p, x);
+			detail::orthogonalise(p, w);
+			if (detail::normalise(p)) basis.push_back(&p);
+		}
+		const int       m = static_cast<int>(basis.size());
+		Eigen::MatrixXd G(m, m);
+		for (int a = 0; a < m; ++a)
+			for (int b = 0; b < m; ++b)
+				G(a, b) = basis[a]->x.dot(h * h * basis[b]->Kx + 2 * h * basis[b]->Dx);
+		Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (G + G.transpose()));
+		const Eigen::VectorXd c = eig.eigenvectors().col(m - 1);
+		detail::Imaged        next;
+		next.x = c[0] * x.x, next.Dx = c[0] * x.Dx, next.Kx = c[0] * x.Kx;
+		detail::Imaged dir; // the new search direction: the part of the step that is not x
+		dir.x.setZero(n), dir.Dx.setZero(n), dir.Kx.setZero(n);
+		for (int a = 1; a < m; ++a) {
+			dir.x += c[a] * basis[a]->x, dir.Dx += c[a] * basis[a]->Dx, dir.Kx += c[a] * basis[a]->Kx;
+		}
+		next.x += dir.x, next.Dx += dir.Dx, next.Kx += dir.Kx;
+		if (!detail::normalise(next)) break;
+		p     = dir;
+		haveP = true;
+		x     = next;
+	}
+	est.hSafe = est.h / (1 + est.residual);
+	mode      = x.x;
+	return est;
+}
+
+} // namespace viscbridge
