@@ -56,7 +56,13 @@ void ViscBridgeTimeStepper::fullUpdate(Scene* sc)
 	network.gather(sc, !implicit);
 	viscbridge::VecX mode;
 	network.modeFromIds(modeById, mode);
-	const viscbridge::StabilityEstimate e = viscbridge::stabilityLimit(network.op, mode, tolerance, maxIterations);
+	// where bridges formed since the last update, a new stiffest mode may be: into the start
+	std::vector<std::size_t> candidates;
+	for (Body::id_t id : changedBodies)
+		if (static_cast<size_t>(id) < network.compactOf.size() && network.compactOf[id] >= 0 && candidates.size() < 48)
+			for (int d = 0; d < 3; ++d) candidates.push_back(6 * network.compactOf[id] + d);
+	changedBodies.clear();
+	const viscbridge::StabilityEstimate e = viscbridge::stabilityLimit(network.op, mode, tolerance, maxIterations, candidates);
 	network.modeToIds(mode, modeById);
 	// the quotients scaled up by the residual: networkLimit of them is h/(1 + ‖r‖/θ) (P18)
 	modeD = e.d * (1 + e.residual), modeK = e.k * (1 + e.residual);
@@ -94,6 +100,7 @@ void ViscBridgeTimeStepper::addFormedBridges(Scene* sc)
 			const shared_ptr<Body>& b = Body::byId(id, sc);
 			if (!b || !b->isDynamic() || static_cast<size_t>(id) >= addedDamping.size()) continue;
 			addedDamping[id] += d, addedStiffness[id] += k;
+			if (changedBodies.size() < 16) changedBodies.push_back(id);
 			// Weyl: the top eigenvalue grows by at most the largest row sum the new pairs add
 			addedD = std::max(addedD, addedDamping[id]), addedK = std::max(addedK, addedStiffness[id]);
 			hP14   = std::min(hP14, bound.bodyLimit(id, addedDamping[id], addedStiffness[id]));
@@ -117,6 +124,13 @@ void ViscBridgeTimeStepper::describeMode()
 		criticalBodies.push_back(s.second);
 		carried += s.first;
 	}
+}
+
+Real ViscBridgeTimeStepper::exactLimit()
+{
+	NetworkOfScene now;
+	now.gather(scene, !viscousImplicit());
+	return viscbridge::denseStabilityLimit(now.op);
 }
 
 void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)

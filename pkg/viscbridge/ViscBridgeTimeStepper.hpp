@@ -16,6 +16,7 @@ class ViscBridgeTimeStepper : public TimeStepper {
 	// eigenvalue grows at most by the new pairs' largest row sum, as P14 counts it)
 	Real                          modeD = 0, modeK = 0, hP14 = 0, hAtUpdate = 0, addedD = 0, addedK = 0;
 	std::vector<Real>             addedDamping, addedStiffness; // per body id, since the last full update
+	std::vector<Body::id_t>       changedBodies;                // bodies of the bridges formed since
 	long                          lastUpdateIter = -1;
 	Real lastValidSafety = 0.5, lastValidGrowth = 1.1, lastValidRayleigh = 0.4, lastValidMaxDt = 0, lastValidTolerance = 1e-3;
 	int  lastValidIterations = 30, lastValidInterval = 50;
@@ -29,9 +30,10 @@ class ViscBridgeTimeStepper : public TimeStepper {
 public:
 	void computeTimeStep(Scene*) override;
 	bool isActivated() override;
+	Real exactLimit();
 	void postLoad(ViscBridgeTimeStepper&);
 	// clang-format off
-	YADE_CLASS_BASE_DOC_ATTRS_CTOR(ViscBridgeTimeStepper, TimeStepper,
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(ViscBridgeTimeStepper, TimeStepper,
 		"Sets :yref:`O.dt<Omega.dt>` = safety × the stability limit of the explicit scheme on the live "
 		"contact network (physics.md §7): the smallest $h$ with $\\lambda_{max}(h^2\\tilde K + 2h\\tilde D) = 4$ "
 		"(P18), $\\tilde D$, $\\tilde K$ the mass-scaled damping and stiffness of every bridge and contact — "
@@ -75,6 +77,10 @@ public:
 		((Real,modeStiffness,0,Attr::readonly,"The top mode's stiffness quotient $y^T\\tilde Ky$ [1/s²]."))
 		,
 		/* ctor */ timeStepUpdateInterval = 1;
+		,
+		/* py */
+		.def("exactLimit", &ViscBridgeTimeStepper::exactLimit,
+		     "The network limit of the current scene by a dense eigen-solution (O(n³) in the number of bodies: for small scenes and checks), without safety [s].")
 	);
 	// clang-format on
 	DECLARE_LOGGER;

@@ -44,7 +44,7 @@ __all__ = ['Bound', 'TimeStepCriteria', 'critical_dt', 'rayleigh_time', 'rayleig
            'viscous_decay_time', 'normal_coefficient', 'pitois_volume_factor',
            'tangential_coefficients', 'pair_limit', 'network_limit', 'restitution_damping_ratio',
            'reduced_radius', 'reduced_mass', 'sphere_mass', 'sphere_volume', 'viscous_step_coefficient',
-           'rupture_distance', 'capillary_force', 'capillary_stiffness', 'capillary_max_stiffness',
+           'rupture_distance', 'capillary_force', 'capillary_stiffness', 'capillary_max_stiffness', 'lattice_limit',
            'NORMAL_MODELS', 'TANGENTIAL_MODELS', 'CAPILLARY_MODELS', 'INTEGRATIONS']
 
 # The model names are those the C++ registry lists (physics/SubModels.hpp, via _registry.py).
@@ -420,6 +420,102 @@ def network_limit(d, kappa):
     if d == 0 and kappa == 0:
         return math.inf
     return 4.0 / (d + math.sqrt(d * d + 4.0 * kappa))
+
+
+# ------------------------------------------------------------------------------------------------
+# the spectral limit of a regular packing (physics.md §7, P16–P18)
+# ------------------------------------------------------------------------------------------------
+#: Bond vectors (one of each ± pair) of the Bravais lattices of equal touching spheres, in units of
+#: the sphere diameter: simple cubic (z = 6), body-centred cubic (z = 8), face-centred cubic (z = 12).
+LATTICE_BONDS = {
+    6: [(1, 0, 0), (0, 1, 0), (0, 0, 1)],
+    8: [(s1 / math.sqrt(3), s2 / math.sqrt(3), 1 / math.sqrt(3)) for s1 in (1, -1) for s2 in (1, -1)],
+    12: [tuple(v / math.sqrt(2) for v in b) for b in ((1, 1, 0), (1, -1, 0), (1, 0, 1), (1, 0, -1), (0, 1, 1), (0, 1, -1))],
+}
+
+
+def _bond_block(n, cn, m, a1, a2):
+    """The 12×12 map (v1, ω1, v2, ω2) → (force, torque on 1, force, torque on 2) of one bridge, as
+    physics/ViscousBlock.hpp's bridgeResistance: u = (I − nnᵀ)(v1 − v2), s = (a1 ω1 + a2 ω2) × n,
+    F = cn (n·dv) n + m11 u + m12 s, G = m21 u + m22 s, torques a_k n × G."""
+    import numpy as np
+    n = np.asarray(n, float)
+    N = np.array([[0, -n[2], n[1]], [n[2], 0, -n[0]], [-n[1], n[0], 0]])  # N v = n × v
+    P = np.eye(3) - np.outer(n, n)
+    m11, m12, m21, m22 = m
+    # dv = v1 − v2, s = −N (a1 ω1 + a2 ω2) (since (a ω) × n = −n × (a ω))
+    Jdv = np.hstack([np.eye(3), np.zeros((3, 3)), -np.eye(3), np.zeros((3, 3))])
+    Js = np.hstack([np.zeros((3, 3)), -a1 * N, np.zeros((3, 3)), -a2 * N])
+    F = cn * np.outer(n, n) @ Jdv + m11 * P @ Jdv + m12 * Js
+    G = m21 * P @ Jdv + m22 * Js
+    return np.vstack([F, a1 * N @ G, -F, a2 * N @ G])
+
+
+def lattice_limit(radius, density, viscosity, coordination=12, *, s_min=None, s_min_rel=1e-3, bridge_volume=None,
+                  bridge_volume_rel=0.01, normal_model='adamsPerchard', tangential_model='slip', spring=0.0,
+                  tangential_spring=None, q_points=12):
+    """The explicit scheme's stability limit on an infinite regular packing of equal spheres, every
+    contact a bridge held at S_min (the stiffest state), as ViscBridgeTimeStepper computes it on a
+    live network (P18, with its safety 1): the smallest h with λ_max(h²K̃ + 2hD̃) = 4, the spectrum
+    taken over the Bloch waves of the lattice (a q grid of q_points³ in the Brillouin zone).
+
+    coordination: 6 (simple cubic), 8 (bcc) or 12 (fcc).  spring / tangential_spring [N/m]: an
+    optional contact stiffness per bond (default: none, the viscous regime).  Returns a dict with
+    'h' [s], 'pair_limit' (2 t_v of one bridge, P12) and 'network_bound' (P14), so the three can be
+    compared: P14 ≤ h ≤ pair_limit."""
+    import numpy as np
+    f = 'lattice_limit'
+    r = positive(f, 'radius', radius, ' [m]')
+    rho = positive(f, 'density', density, ' [kg/m³]')
+    mu = non_negative(f, 'viscosity', viscosity, ' [Pa·s]')
+    if coordination not in LATTICE_BONDS:
+        reject(f, 'coordination', coordination, ', '.join(str(z) for z in LATTICE_BONDS))
+    choice(f, 'normal_model', normal_model, NORMAL_MODELS)
+    choice(f, 'tangential_model', tangential_model, TANGENTIAL_MODELS)
+    r_bar = r / 2
+    smin = positive(f, 's_min', s_min, ' [m]') if s_min is not None else s_min_rel * r_bar
+    volume = bridge_volume if bridge_volume is not None else bridge_volume_rel * sphere_volume(r)
+    m = sphere_mass(r, rho)
+    inertia = 0.4 * m * r * r
+    cn = normal_coefficient(r_bar, mu, smin, normal_model, volume) if normal_model != 'none' else 0.0
+    g = _goldman(6 * math.pi * mu * r_bar, r_bar, smin)
+    resistance = {'none': (0, 0, 0, 0), 'slip': (g['C_T'],) * 4, 'washino': (g['C_T'], g['C_R'], g['C_T'], g['C_R']),
+                  'goldman': (g['C_T'], g['C_R'], g['C_R'], g['C_W'])}[tangential_model]
+    arm = r + (0.5 * smin if tangential_model == 'slip' else 0.0)
+    kt = spring if tangential_spring is None else tangential_spring
+    scale = np.repeat([1 / math.sqrt(m), 1 / math.sqrt(inertia)], 3)
+    bonds = [np.array(b, float) for b in LATTICE_BONDS[coordination]]
+    blocks = [(b, _bond_block(b, cn, resistance, arm, arm), _bond_block(b, spring, (kt,) * 4, r, r)) for b in bonds]
+
+    def bloch(q):
+        """D̃(q), K̃(q): particle i is body 1 of its bond to i + b and body 2 of the one from i − b."""
+        D = np.zeros((6, 6), complex)
+        K = np.zeros((6, 6), complex)
+        for b, Bd, Bk in blocks:
+            phase = np.exp(1j * 2 * r * np.dot(q, b))
+            for B, out in ((Bd, D), (Bk, K)):
+                out += B[:6, :6] + B[:6, 6:] * phase + B[6:, 6:] + B[6:, :6] / phase
+        S = np.diag(scale)
+        return S @ D @ S, S @ K @ S
+
+    qs = np.linspace(-math.pi / (2 * r), math.pi / (2 * r), q_points)
+    mats = [bloch(np.array([a, b, c])) for a in qs for b in qs for c in qs]
+    Ds, Ks = np.array([D for D, _ in mats]), np.array([K for _, K in mats])
+
+    def lam(h):  # the top of the spectrum over every q at once
+        return np.linalg.eigvalsh(h * h * Ks + 2 * h * Ds).max()
+    hi = 1.0
+    while lam(hi) < 4:
+        hi *= 2
+    lo = hi
+    while lam(lo) >= 4:
+        lo /= 2
+    for _ in range(60):
+        mid = math.sqrt(lo * hi)
+        lo, hi = (mid, hi) if lam(mid) < 4 else (lo, mid)
+    d14 = coordination * viscous_step_coefficient(r, r, mu, smin, normal_model, tangential_model, volume) * 2 / m
+    k14 = coordination * (spring + 3.5 * kt) * 2 / m
+    return dict(h=math.sqrt(lo * hi), pair_limit=pair_limit(m / 2, cn, spring), network_bound=network_limit(d14, k14))
 
 
 # ------------------------------------------------------------------------------------------------

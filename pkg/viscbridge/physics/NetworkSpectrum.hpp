@@ -17,6 +17,7 @@
 #include "ViscousBlock.hpp"
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -56,7 +57,32 @@ public:
 		}
 	}
 
+	// The diagonals of D̃ and K̃ (each a Rayleigh quotient of a unit vector, so a lower bound of the
+	// top eigenvalue), in closed form from each pair's side blocks: translations cn n_k² + m11(1 − n_k²),
+	// rotations a² m22 (1 − n_k²), mass-scaled.
+	void diagonal(VecX& D, VecX& K) const
+	{
+		D.setZero(size());
+		K.setZero(size());
+		for (const NetworkPair& p : pairs)
+			for (int side = 0; side < 2; ++side) {
+				const int body = side == 0 ? p.body1 : p.body2;
+				if (body < 0) continue;
+				addDiagonal(p.damping, side == 0 ? p.damping.a1 : p.damping.a2, body, D);
+				addDiagonal(p.stiffness, side == 0 ? p.stiffness.a1 : p.stiffness.a2, body, K);
+			}
+	}
+
 private:
+	void addDiagonal(const ViscousBlock& b, double arm, int body, VecX& out) const
+	{
+		if (!b.valid) return;
+		for (int k = 0; k < 3; ++k) {
+			const double nk2 = b.n[k] * b.n[k], s = scale[body][k], sr = scale[body][k + 3];
+			out[6 * body + k] += s * s * (b.cn * nk2 + b.resistance.m11 * (1 - nk2));
+			out[6 * body + k + 3] += sr * sr * arm * arm * b.resistance.m22 * (1 - nk2);
+		}
+	}
 	void accumulate(const ViscousBlock& b, const NetworkPair& p, const Vec6& v1, const Vec6& v2, VecX& out) const
 	{
 		if (!b.valid) return;
@@ -94,22 +120,74 @@ namespace detail {
 	}
 }
 
-// The top mode of h²K̃ + 2hD̃ at the h where its eigenvalue is 4 (P18).  `mode` is the start
-// (normalised inside; random if empty or zero) and receives the dominant vector.
-inline StabilityEstimate stabilityLimit(const NetworkOperator& op, VecX& mode, double tolerance, int maxIterations)
+namespace detail {
+	// The degrees of freedom with the largest diagonal entries of h²K̃ + 2hD̃: where the stiffest
+	// local modes sit.
+	inline std::vector<std::size_t> largestEntries(const VecX& D, const VecX& K, double h, std::size_t count)
+	{
+		std::vector<std::pair<double, std::size_t>> e;
+		for (long i = 0; i < D.size(); ++i)
+			if (D[i] > 0 || K[i] > 0) e.push_back({ h * h * K[i] + 2 * h * D[i], static_cast<std::size_t>(i) });
+		const std::size_t k = std::min(count, e.size());
+		std::partial_sort(e.begin(), e.begin() + k, e.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+		std::vector<std::size_t> out;
+		for (std::size_t i = 0; i < k; ++i) out.push_back(e[i].second);
+		return out;
+	}
+
+	// The start: the previous mode, plus unit vectors where the diagonal is largest, plus a little of a
+	// fixed pseudo-random vector.  A network of separate clusters has an eigenvector in each, with zero
+	// residual: started on one, the iteration would stay there although another cluster's mode is
+	// stiffer.  With every candidate in the start it moves to the top one.
+	inline VecX startVector(const VecX& previous, const std::vector<std::size_t>& candidates, std::size_t n)
+	{
+		const bool warm = previous.size() == static_cast<long>(n) && previous.norm() > 0;
+		VecX       x    = warm ? VecX(previous.normalized()) : VecX(VecX::Zero(n));
+		// beside a previous mode, a tenth of its weight: enough to grow if stiffer, little to clean if not
+		const double candidateWeight = (warm ? 0.1 : 1.0) / std::sqrt(static_cast<double>(std::max<std::size_t>(candidates.size(), 1)));
+		for (std::size_t i : candidates) x[i] += candidateWeight;
+		std::mt19937                           seeded(12345); // fixed: the same result on every run
+		std::uniform_real_distribution<double> u(-1, 1);
+		const double                           weight = x.norm() > 0 ? 1e-3 / std::sqrt(static_cast<double>(n)) : 1.0;
+		for (std::size_t i = 0; i < n; ++i) x[i] += weight * u(seeded);
+		return x.normalized();
+	}
+}
+
+// h* by a dense eigen-solution and bisection on λ_max(h²K̃ + 2hD̃) = 4: O(n³), for small networks
+// and for checking the iteration.
+inline double denseStabilityLimit(const NetworkOperator& op)
+{
+	const long n = static_cast<long>(op.size());
+	if (n == 0 || op.pairs.empty()) return std::numeric_limits<double>::infinity();
+	Eigen::MatrixXd D(n, n), K(n, n);
+	VecX            e = VecX::Zero(n), Dy, Ky;
+	for (long j = 0; j < n; ++j) {
+		e[j] = 1;
+		op.apply(e, Dy, Ky);
+		D.col(j) = Dy, K.col(j) = Ky;
+		e[j]     = 0;
+	}
+	D = 0.5 * (D + D.transpose()), K = 0.5 * (K + K.transpose());
+	auto lambda = [&](double h) { return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(h * h * K + 2 * h * D, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff(); };
+	double hi = 1;
+	while (lambda(hi) < 4) hi *= 2;
+	double lo = hi;
+	while (lambda(lo) >= 4) lo /= 2;
+	for (int i = 0; i < 60; ++i) {
+		const double mid = std::sqrt(lo * hi);
+		(lambda(mid) < 4 ? lo : hi) = mid;
+	}
+	return std::sqrt(lo * hi);
+}
+
+// LOBPCG from `start` (see stabilityLimit).
+inline StabilityEstimate lobpcg(const NetworkOperator& op, const VecX& start, double tolerance, int maxIterations, VecX& mode)
 {
 	StabilityEstimate est;
 	const std::size_t n = op.size();
-	if (n == 0 || op.pairs.empty()) return est;
-	detail::Imaged x, w, p;
-	x.x = mode.size() == static_cast<long>(n) ? mode : VecX();
-	if (x.x.size() != static_cast<long>(n) || !(x.x.norm() > 0)) {
-		std::mt19937                           seeded(12345); // a fixed start: the same result on every run
-		std::uniform_real_distribution<double> u(-1, 1);
-		x.x.resize(n);
-		for (std::size_t i = 0; i < n; ++i) x.x[i] = u(seeded);
-	}
-	x.x.normalize();
+	detail::Imaged    x, w, p;
+	x.x = start;
 	op.apply(x.x, x.Dx, x.Kx);
 	++est.iterations;
 	bool haveP = false;
@@ -160,6 +238,32 @@ inline StabilityEstimate stabilityLimit(const NetworkOperator& op, VecX& mode, d
 	}
 	est.hSafe = est.h / (1 + est.residual);
 	mode      = x.x;
+	return est;
+}
+
+// The top mode of h²K̃ + 2hD̃ at the h where its eigenvalue is 4 (P18).  `mode` is the previous
+// mode (empty at first) and receives the new one.  Warm, the start is the previous mode with a tenth
+// of `candidates` (degrees of freedom where the network changed, e.g. bodies with new bridges).  Cold,
+// it is the largest diagonal entries, and since a diagonal entry is a Rayleigh quotient, one above
+// the eigenvalue found shows that the iteration settled on a lesser mode: it is started again there.
+inline StabilityEstimate stabilityLimit(const NetworkOperator& op, VecX& mode, double tolerance, int maxIterations,
+                                        const std::vector<std::size_t>& candidates = {})
+{
+	const std::size_t n = op.size();
+	if (n == 0 || op.pairs.empty()) return StabilityEstimate();
+	const bool warm = mode.size() == static_cast<long>(n) && mode.norm() > 0;
+	if (warm) return lobpcg(op, detail::startVector(mode, candidates, n), tolerance, maxIterations, mode);
+	VecX diagD, diagK;
+	op.diagonal(diagD, diagK);
+	const double      hDiag = networkLimit(diagD.maxCoeff(), diagK.maxCoeff()); // where the entries are compared first
+	StabilityEstimate est   = lobpcg(op, detail::startVector(mode, detail::largestEntries(diagD, diagK, hDiag, 8), n), tolerance, maxIterations, mode);
+	for (int restart = 0; restart < 3 && std::isfinite(est.h) && est.iterations < maxIterations; ++restart) {
+		const std::vector<std::size_t> top = detail::largestEntries(diagD, diagK, est.h, 1);
+		if (top.empty() || est.h * est.h * diagK[top[0]] + 2 * est.h * diagD[top[0]] <= 4 * (1 + tolerance)) break;
+		const int spent = est.iterations;
+		est             = lobpcg(op, detail::startVector(mode, top, n), tolerance, maxIterations - spent, mode);
+		est.iterations += spent;
+	}
 	return est;
 }
 

@@ -36,6 +36,10 @@ struct PairConstants {
 	ConstantsStorage<CapillaryModels::largest>      capillary;
 	double viscousStepCoefficient = 0; // Σ of the slots' damping at its stiffest, for the time step (P14, P14a) [N·s/m]
 	double capillaryStiffness     = 0; // the largest |dF/dS| of the capillary force (P22) [N/m]
+	// the bridge's viscous coefficients at S_min, where they are largest (the time step's damping, P16)
+	double               stiffestNormal = 0;
+	TangentialResistance stiffestTangential;
+	double               armGapFraction = 0; // of the tangential model: its arms reach r + fraction·S
 };
 
 namespace detail {
@@ -68,6 +72,15 @@ inline PairConstants makePairConstants(const ModelSelection& s, const HertzMindl
 	detail::storeModel<TangentialModels>(s.tangential, in, k.tangential, k.viscousStepCoefficient, k.capillaryStiffness);
 	detail::storeModel<DampingModels>(s.damping, in, k.damping, k.viscousStepCoefficient, k.capillaryStiffness);
 	detail::storeModel<CapillaryModels>(s.capillary, in, k.capillary, k.viscousStepCoefficient, k.capillaryStiffness);
+	visitModel(s.normal, NormalModels(), [&](auto i) { k.stiffestNormal = k.normal.as<NormalModels::At<decltype(i)::value>>().coefficient(in.sMin); });
+	visitModel(s.tangential, TangentialModels(), [&](auto i) {
+		using T = TangentialModels::At<decltype(i)::value>;
+		k.armGapFraction = T::armGapFraction;
+		if constexpr (T::capabilities.enabled) {
+			const TangentialKinematics still { Vec3::UnitX(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), in.radius1, in.radius2, in.sMin, in.sMin };
+			k.stiffestTangential = k.tangential.as<T>().evaluate(still).resistance;
+		}
+	});
 	return k;
 }
 

@@ -25,19 +25,13 @@ struct PairMaps {
 };
 
 namespace detail {
-	// The bridge's viscous damping with every coefficient at S_min.
-	inline void stiffestBridgeDamping(const PairConstants& k, const ModelSelection& s, const PairNow& p, ViscousBlock& d)
+	// The bridge's viscous damping with every coefficient at S_min (computed with the constants).
+	inline void stiffestBridgeDamping(const PairConstants& k, const PairNow& p, ViscousBlock& d)
 	{
-		visitModel(s.normal, NormalModels(), [&](auto i) { d.cn = k.normal.as<NormalModels::At<decltype(i)::value>>().coefficient(k.sMin); });
-		visitModel(s.tangential, TangentialModels(), [&](auto i) {
-			using T = TangentialModels::At<decltype(i)::value>;
-			if constexpr (T::capabilities.enabled) {
-				const TangentialKinematics still { p.n, Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), p.radius1, p.radius2, p.S, k.sMin };
-				d.resistance = k.tangential.as<T>().evaluate(still).resistance;
-			}
-			d.a1 = detail::arm(p.radius1, T::armGapFraction * p.S);
-			d.a2 = detail::arm(p.radius2, T::armGapFraction * p.S);
-		});
+		d.cn         = k.stiffestNormal;
+		d.resistance = k.stiffestTangential;
+		d.a1         = detail::arm(p.radius1, k.armGapFraction * p.S);
+		d.a2         = detail::arm(p.radius2, k.armGapFraction * p.S);
 	}
 }
 
@@ -51,7 +45,7 @@ inline PairMaps pairMaps(const PairConstants& k, const ModelSelection& s, const 
 	m.damping.n = m.stiffness.n = p.n;
 	m.damping.a1 = m.stiffness.a1 = contactArm1;
 	m.damping.a2 = m.stiffness.a2 = contactArm2;
-	if (p.bridge && viscousExplicit) detail::stiffestBridgeDamping(k, s, p, m.damping);
+	if (p.bridge && viscousExplicit) detail::stiffestBridgeDamping(k, p, m.damping);
 	if (contact) {
 		visitModel(s.damping, DampingModels(), [&](auto i) { // P2b: 2β√(m* k), at the contact point
 			using D = DampingModels::At<decltype(i)::value>;
