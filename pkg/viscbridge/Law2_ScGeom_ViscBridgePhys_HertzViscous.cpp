@@ -1,4 +1,5 @@
 #include "Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
+#include "Distributed.hpp"
 #include "physics/ModelNames.hpp"
 #include "physics/PairKernel.hpp"
 #include "ViscBridgeGuard.hpp"
@@ -112,6 +113,8 @@ namespace {
 		scene->forces.addTorque(id2, out.torque2);
 
 		if constexpr (E) {
+			// [MPI] an interaction shared by two ranks of yade.mpy is booked by one (always true serially)
+			if (!distributed::ownershipThisStep(scene).interaction(*I, scene)) return true;
 			if constexpr (N::enabled) law.addEnergy(out.dissipNormal, "viscDissipNormal", law.viscDissipNormalIx, false);
 			if constexpr (T::enabled) {
 				law.addEnergy(out.dissipTangential, "viscDissipTangential", law.viscDissipTangentialIx, false);

@@ -34,6 +34,10 @@ class ViscBridgeGuard : public GlobalEngine {
 	Real        mechanicalEnergyNow() const;
 	std::string diagnose(Body::id_t worst, const std::string& what);
 	std::string safeStepAdvice(bool implicit, bool washino);
+	// [MPI] under yade.mpy, the same decisions on every rank (ViscBridgeGuardDistributed.cpp; no-ops serially)
+	void agreeWithOtherRanks(bool& changed, bool& newRun);
+	void sumOverRanks(Real& kinetic, Real& gravityWork, Real& work, Real& elastic, bool& finite) const;
+	int  distributedCulprit(Body::id_t culprit, Real kinetic) const;
 
 public:
 	// Raises `message` at the start of the next step (adds a guard to O.engines if there is none):

@@ -5,6 +5,7 @@
 #include "physics/TimeStepBounds.hpp"
 #include "physics/Validation.hpp"
 #include "SceneValidation.hpp"
+#include "Distributed.hpp"
 #include <core/InteractionLoop.hpp>
 #include <core/Scene.hpp>
 #include <pkg/common/ElastMat.hpp>
@@ -165,11 +166,17 @@ bool ViscBridgeTimeStepper::isActivated()
 void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 {
 	const size_t signature = sceneSignature(sc);
-	if (signature != validatedSignature) { // e.g. a sphere of radius 0 would give dt = 0 or NaN
-		validateScene(sc, false);
-		validatedSignature = signature;
-	}
+	// [MPI] under yade.mpy a rank's invalid body stops every rank (none is left waiting below)
+	distributed::collectively(sc, [&] {
+		if (signature != validatedSignature) { // e.g. a sphere of radius 0 would give dt = 0 or NaN
+			validateScene(sc, false);
+			validatedSignature = signature;
+		}
+	});
 	bound.evaluate(sc, viscousIntegrationIsImplicit(sc), rayleighFraction);
+	// [MPI] each rank sees its own bodies' interactions: the bound is the minimum over the ranks, and
+	// every rank must step from the same dt (checked), so that all of them set the same one
+	distributed::reduceTimeStepBound(sc, bound.collision, bound.viscous, bound.combined, bound.criticalBody);
 	criticalBody = bound.criticalBody;
 	dtCollision  = safety * bound.collision;
 	dtViscous    = safety * bound.viscous;
