@@ -333,5 +333,40 @@ namespace distributed {
 		requireSameDt(scene, dts, "ViscBridgeTimeStepper");
 	}
 
+	Halo halo(const Scene* scene)
+	{
+		Halo h;
+#ifdef YADE_MPI
+		if (!active(scene)) return h;
+		const Subdomain& sd = *subdomainOf(scene);
+		const int        me = rank(scene);
+		if (me == 0 || sd.intersections.size() <= static_cast<size_t>(me)) return h;
+		for (const Body::id_t other : sd.intersections[me]) {
+			if (other == 0 || other == me || static_cast<size_t>(other) >= sd.intersections.size()) continue;
+			h.ranks.push_back(other);
+			h.sent.push_back(sd.intersections[other]);
+			h.received.push_back(static_cast<size_t>(other) < sd.mirrorIntersections.size() ? sd.mirrorIntersections[other] : std::vector<Body::id_t>());
+		}
+#endif
+		return h;
+	}
+
+	void exchange(const Scene* scene, const Halo& h, const std::vector<std::vector<double>>& send, std::vector<std::vector<double>>& received)
+	{
+#ifdef YADE_MPI
+		if (h.ranks.empty()) return;
+		const MPI_Comm           comm = commOf(scene);
+		const int                tag  = 31517; // none of mpy's
+		std::vector<MPI_Request> requests(2 * h.ranks.size());
+		for (size_t j = 0; j < h.ranks.size(); ++j)
+			MPI_Irecv(received[j].data(), static_cast<int>(received[j].size()), MPI_DOUBLE, h.ranks[j], tag, comm, &requests[2 * j]);
+		for (size_t j = 0; j < h.ranks.size(); ++j)
+			MPI_Isend(send[j].data(), static_cast<int>(send[j].size()), MPI_DOUBLE, h.ranks[j], tag, comm, &requests[2 * j + 1]);
+		std::vector<MPI_Status> status(requests.size());
+		if (MPI_Waitall(static_cast<int>(requests.size()), requests.data(), status.data()) != MPI_SUCCESS)
+			throw std::runtime_error("ViscBridge: the halo exchange between the ranks of yade.mpy failed (mismatched subdomain lists?).");
+#endif
+	}
+
 } // namespace distributed
 } // namespace yade

@@ -90,5 +90,18 @@ namespace distributed {
 	// combined bound, in one exchange that also checks, like requireSameDt, that O.dt is the same.
 	void reduceTimeStepBound(const Scene* scene, Real& collision, Real& viscous, Real& combined, Body::id_t& criticalBody);
 
+	// This rank's halo under yade.mpy, from mpy's own lists (Subdomain::intersections and
+	// mirrorIntersections): for every neighbouring worker, the ids of this rank's bodies that it
+	// mirrors (`sent`) and the ids of its bodies mirrored here (`received`), in the same order on both
+	// sides.  The master (rank 0) has no halo: it owns no particles and receives no states.
+	struct Halo {
+		std::vector<int>                     ranks;
+		std::vector<std::vector<Body::id_t>> sent, received;
+	};
+	Halo halo(const Scene* scene);
+	// Point-to-point exchange with the halo's neighbours: sends send[j] to ranks[j] and receives into
+	// received[j], which the caller sizes (a message of another size is an error).
+	void exchange(const Scene* scene, const Halo& halo, const std::vector<std::vector<double>>& send, std::vector<std::vector<double>>& received);
+
 } // namespace distributed
 } // namespace yade
