@@ -1,0 +1,96 @@
+"""The settling scene of tests/py/test_mpi.py, run serially (`yade -n -x mpi_case.py OUT ...`) or
+split by yade.mpy (`mpiexec -n N yade -n -x mpi_case.py OUT ...`).
+
+Every rank writes OUT.rank<k>.json: its own dt at every step, the error that stopped it (if any)
+and, on rank 0 (which holds the merged scene at the end), the positions, O.energy summed over the
+ranks, the initial kinetic energy and the bridges.  Options (after OUT):
+  --integration explicit|implicit   --steps N   --viscosity MU   --tolerance TOL (implicit)
+  --dt DT         a fixed time step (no ViscBridgeTimeStepper)
+  --no-guard      without ViscBridgeGuard
+  --mismatch      run 5 steps, then give rank 1 twice the dt and run on (must be refused)
+"""
+import argparse
+import json
+import os
+import sys
+
+from yade import O, utils
+import yade.wrapper as yw
+
+import viscbridge.mpi
+import viscbridge.scenes as scenes
+
+ap = argparse.ArgumentParser()
+ap.add_argument('out')
+ap.add_argument('--integration', default='explicit')
+ap.add_argument('--steps', type=int, default=300)
+ap.add_argument('--viscosity', type=float, default=0.01)
+ap.add_argument('--tolerance', type=float, default=None)
+ap.add_argument('--dt', type=float, default=None)
+ap.add_argument('--no-guard', action='store_true')
+ap.add_argument('--mismatch', action='store_true')
+args = ap.parse_args(sys.argv[1:])
+
+distributed = 'OMPI_COMM_WORLD_SIZE' in os.environ  # serial runs do not even import mpy
+if distributed:
+    from yade import mpy as mp
+    mp.VERBOSE_OUTPUT = False
+
+# 40 spheres in a column 5 diameters wide, thrown at 0.3 m/s into each other and the walls, bridges
+# forming within 0.5 r: many
+# bridges (across the subdomains too) and a quarter of the energy dissipated within 300 steps
+s = scenes.settling(n=40, viscosity=args.viscosity, seed=3, initialSpeed=0.3, cloudFraction=0.25, formationDistance=2.5e-4, width=5e-3,
+                    integration=args.integration, dt=args.dt, guard=not args.no_guard)
+if args.tolerance:
+    for e in O.engines:
+        if isinstance(e, yw.ViscBridgeImplicitSolver):
+            e.tolerance = args.tolerance
+initial_kinetic = utils.kineticEnergy()
+viscbridge.mpi.decompose(axis=0)
+DTS = []
+O.engines = O.engines + [yw.PyRunner(iterPeriod=1, initRun=True, command='DTS.append(O.dt)', label='dtRecorder')]
+import builtins
+builtins.DTS = DTS  # PyRunner commands run in __main__ of yade, not here
+
+me = viscbridge.mpi.rank()
+result = dict(rank=me, ranks=viscbridge.mpi.ranks(), error=None)
+
+
+def run(steps):
+    if distributed:
+        mp.mpirun(steps, mp.numThreads, withMerge=True)
+    else:
+        O.run(steps, True)
+
+
+try:
+    if args.mismatch:
+        run(5)
+        if me == 1:
+            O.dt *= 2
+        run(args.steps)
+    else:
+        run(args.steps)
+except Exception as error:  # every rank must stop with the same message, none may hang
+    result['error'] = '%s: %s' % (type(error).__name__, error)
+result['iter'] = O.iter
+result['dts'] = DTS
+if result['error'] is None:
+    result['energy'] = viscbridge.mpi.energy()
+    if me == 0:
+        spheres = [b for b in O.bodies if isinstance(b.shape, yw.Sphere)]
+        result['positions'] = {b.id: list(b.state.pos) for b in spheres}
+        bridges = [i for i in O.interactions if i.isReal and i.phys.bridge]
+        result['bridges'] = len(bridges)
+        result['crossBridges'] = sum(1 for i in bridges if min(O.bodies[i.id1].subdomain, O.bodies[i.id2].subdomain) > 0
+                                     and O.bodies[i.id1].subdomain != O.bodies[i.id2].subdomain)
+        result['initialKinetic'] = initial_kinetic
+        solver = [e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver)]
+        if solver:
+            result['solver'] = dict(iterations=solver[0].totalIterations, solves=solver[0].solves, residual=solver[0].residual,
+                                    tolerance=solver[0].tolerance)
+        guard = [e for e in O.engines if isinstance(e, yw.ViscBridgeGuard)]
+        if guard:
+            result['guardChecks'] = guard[0].checks
+with open('%s.rank%d.json' % (args.out, me), 'w') as fh:
+    json.dump(result, fh)
