@@ -13,6 +13,7 @@ import shutil
 import signal
 import subprocess
 import tempfile
+import time
 
 import pytest
 from yade import O
@@ -53,7 +54,9 @@ def run_case(ranks, *options):
         out = os.path.join(tmp, 'case')
         yade = ['yade', '-n', '-x', CASE, out, *options]
         cmd = yade if ranks == 1 else MPIEXEC + ['-n', str(ranks)] + yade
-        env = dict(os.environ, OMP_NUM_THREADS='1')
+        # a private TMPDIR: mpiexec's session directory is named after its PID, which repeats in
+        # yadew's PID namespaces (a leftover of a killed run would make mpiexec fail to start)
+        env = dict(os.environ, OMP_NUM_THREADS='1', TMPDIR=tmp)
         proc = run_group(cmd, cwd=tmp, env=env)
         results = []
         for r in range(ranks):
@@ -193,3 +196,36 @@ def test_serial_helpers_are_plain():
     assert viscbridge.mpi.decompose() == []
     assert viscbridge.mpi.energy() == dict(O.energy.items())
     assert viscbridge.mpi.energy_total() == pytest.approx(O.energy.total(), rel=1e-15)
+
+
+LONG_MPI_RUN = '''
+from yade import mpy as mp
+import viscbridge.mpi
+import viscbridge.scenes as scenes
+scenes.settling(n=20, viscosity=0.1)
+viscbridge.mpi.decompose()
+if mp.rank == 0:
+    print('running', flush=True)
+mp.mpirun(10**9, mp.numThreads)
+print('the run finished', flush=True)
+'''
+
+
+@pytest.mark.parametrize('sig', [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_stops_every_rank(tmp_path, sig):
+    """`./yadew mpirun` runs mpiexec under yadew's supervision: Ctrl-C (SIGINT) or SIGTERM ends the
+    run on every rank, and no rank outlives it."""
+    from test_stop import supervised, wait_for_line, wait_gone, processes_with
+    import uuid
+    script = tmp_path / 'long_mpi_run.py'
+    script.write_text(LONG_MPI_RUN)
+    token = uuid.uuid4().hex
+    proc = supervised(['env', 'TMPDIR=' + str(tmp_path)] + MPIEXEC + ['-n', '3', 'yade', '-n', '-x', str(script), token], token)
+    wait_for_line(proc, 'running')
+    time.sleep(3)  # well inside mp.mpirun
+    assert len(processes_with(token)) >= 3  # the ranks run
+    proc.send_signal(sig)
+    out, err = proc.communicate(timeout=120)
+    assert 'the run finished' not in out
+    assert proc.returncode != 0
+    assert wait_gone(token, 15), processes_with(token)
