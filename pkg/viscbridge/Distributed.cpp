@@ -333,6 +333,40 @@ namespace distributed {
 		requireSameDt(scene, dts, "ViscBridgeTimeStepper");
 	}
 
+	void requireParticlesOnWorkers(const Scene* scene)
+	{
+#ifdef YADE_MPI
+		if (!active(scene) || rank(scene) != 0) return;
+		long       moving = 0;
+		Body::id_t first  = -1;
+		for (const auto& b : *scene->bodies)
+			if (b && b->subdomain == 0 && !b->getIsSubdomain() && b->isDynamic() && b->state->mass > 0) {
+				if (first < 0) first = b->getId();
+				++moving;
+			}
+		if (moving == 0) return;
+		throw std::invalid_argument("Body #" + std::to_string(first) + " (and " + std::to_string(moving - 1)
+		                            + " more) is a moving body of subdomain 0, yade.mpy's master, which only holds boundaries: mpy does not send "
+		                              "the master's bodies to the workers, so they would be frozen for their neighbours there (or the run is "
+		                              "serial). Assign every free particle to a worker (Body.subdomain >= 1) before mp.mpirun, e.g. with "
+		                              "viscbridge.mpi.decompose() or mp.DOMAIN_DECOMPOSITION = True.");
+#endif
+	}
+
+	void requireOneSubdomainWhenSerial(const Scene* scene)
+	{
+#ifdef YADE_MPI
+		if (active(scene)) return;
+		for (const auto& b : *scene->bodies)
+			if (b && b->subdomain != scene->subdomain && !b->getIsSubdomain() && b->isDynamic() && b->state->mass > 0)
+				throw std::invalid_argument("Body #" + std::to_string(b->getId()) + ".subdomain=" + std::to_string(b->subdomain)
+				                            + " but the scene runs in one process (as subdomain " + std::to_string(scene->subdomain)
+				                            + "): NewtonIntegrator would never move it. A scene merged by yade.mpy (mp.mpirun(..., withMerge=True), "
+				                              "or saved after it) runs on serially after viscbridge.mpi.to_serial(); on one rank, mp.mpirun() is "
+				                              "a plain O.run(), so leave Body.subdomain at 0 there.");
+#endif
+	}
+
 	Halo halo(const Scene* scene)
 	{
 		Halo h;

@@ -90,6 +90,16 @@ namespace distributed {
 	// combined bound, in one exchange that also checks, like requireSameDt, that O.dt is the same.
 	void reduceTimeStepBound(const Scene* scene, Real& collision, Real& viscous, Real& combined, Body::id_t& criticalBody);
 
+	// On the master (rank 0): std::invalid_argument if it owns a moving particle.  mpy never sends
+	// the master's states to the workers (unless mpy.MASTER_UPDATE_STATES), so its particles would
+	// be frozen for their neighbours on the workers, or, if all stay there, the run is serial.
+	void requireParticlesOnWorkers(const Scene* scene);
+
+	// When the scene is not split (serial, or merged by mpy.mergeScene()): std::invalid_argument if a
+	// moving body belongs to another subdomain than the scene's, since NewtonIntegrator (built with
+	// MPI) never moves such a body: a merged scene continued serially would silently freeze.
+	void requireOneSubdomainWhenSerial(const Scene* scene);
+
 	// This rank's halo under yade.mpy, from mpy's own lists (Subdomain::intersections and
 	// mirrorIntersections): for every neighbouring worker, the ids of this rank's bodies that it
 	// mirrors (`sent`) and the ids of its bodies mirrored here (`received`), in the same order on both

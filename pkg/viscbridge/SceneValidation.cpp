@@ -112,6 +112,8 @@ void validateScene(const Scene* scene, bool checkDt)
 	if (!f.ip2) return;
 	for (const auto& b : *scene->bodies)
 		if (b && b->shape && !distributed::isSubdomainBody(*b)) validateBody(*b); // [MPI] mpy's subdomains are not particles
+	distributed::requireParticlesOnWorkers(scene);     // [MPI]
+	distributed::requireOneSubdomainWhenSerial(scene); // [MPI] e.g. a merged scene run on serially
 	if (f.law->integrationIndex != static_cast<int>(vb::Integration::implicitEuler)) return;
 	bool                    seenLoop = false, solverAfterLoop = false, newtonAfterSolver = false;
 	const NewtonIntegrator* newton = nullptr;

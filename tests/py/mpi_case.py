@@ -8,6 +8,9 @@ ranks, the initial kinetic energy and the bridges.  Options (after OUT):
   --dt DT         a fixed time step (no ViscBridgeTimeStepper)
   --no-guard      without ViscBridgeGuard
   --mismatch      run 5 steps, then give rank 1 twice the dt and run on (must be refused)
+  --no-decompose  leave every particle to the master (must be refused)
+  --save FILE     rank 0 saves the merged scene at the end
+  --load FILE     serially: load FILE (saved by --save), try a step (refused), viscbridge.mpi.to_serial(), run
 """
 import argparse
 import json
@@ -29,6 +32,9 @@ ap.add_argument('--tolerance', type=float, default=None)
 ap.add_argument('--dt', type=float, default=None)
 ap.add_argument('--no-guard', action='store_true')
 ap.add_argument('--mismatch', action='store_true')
+ap.add_argument('--no-decompose', action='store_true')
+ap.add_argument('--save', default=None)
+ap.add_argument('--load', default=None)
 args = ap.parse_args(sys.argv[1:])
 
 distributed = 'OMPI_COMM_WORLD_SIZE' in os.environ  # serial runs do not even import mpy
@@ -36,19 +42,28 @@ if distributed:
     from yade import mpy as mp
     mp.VERBOSE_OUTPUT = False
 
-# 40 spheres in a column 5 diameters wide, thrown at 0.3 m/s into each other and the walls, bridges
-# forming within 0.5 r: many
-# bridges (across the subdomains too) and a quarter of the energy dissipated within 300 steps
-s = scenes.settling(n=40, viscosity=args.viscosity, seed=3, initialSpeed=0.3, cloudFraction=0.25, formationDistance=2.5e-4, width=5e-3,
+
+def build():
+    """40 spheres in a column 5 diameters wide, thrown at 0.3 m/s into each other and the walls,
+    bridges forming within 0.5 r: many bridges (across the subdomains too) and a large part of the
+    energy dissipated within 300 steps."""
+    scenes.settling(n=40, viscosity=args.viscosity, seed=3, initialSpeed=0.3, cloudFraction=0.25, formationDistance=2.5e-4, width=5e-3,
                     integration=args.integration, dt=args.dt, guard=not args.no_guard)
-if args.tolerance:
-    for e in O.engines:
-        if isinstance(e, yw.ViscBridgeImplicitSolver):
-            e.tolerance = args.tolerance
+    if args.tolerance:
+        for e in O.engines:
+            if isinstance(e, yw.ViscBridgeImplicitSolver):
+                e.tolerance = args.tolerance
+    if not args.no_decompose:
+        viscbridge.mpi.decompose(axis=0)
+    O.engines = O.engines + [yw.PyRunner(iterPeriod=1, initRun=True, command='DTS.append(O.dt)', label='dtRecorder')]
+
+
+if args.load:
+    O.load(args.load)
+else:
+    build()
 initial_kinetic = utils.kineticEnergy()
-viscbridge.mpi.decompose(axis=0)
 DTS = []
-O.engines = O.engines + [yw.PyRunner(iterPeriod=1, initRun=True, command='DTS.append(O.dt)', label='dtRecorder')]
 import builtins
 builtins.DTS = DTS  # PyRunner commands run in __main__ of yade, not here
 
@@ -63,6 +78,12 @@ def run(steps):
         O.run(steps, True)
 
 
+if args.load:  # a merged scene runs on serially only once it is made serial again
+    try:
+        O.run(1, True)
+    except RuntimeError as error:
+        result['refusedBeforeToSerial'] = str(error)
+    result['toSerial'] = viscbridge.mpi.to_serial()
 try:
     if args.mismatch:
         run(5)
@@ -92,5 +113,7 @@ if result['error'] is None:
         guard = [e for e in O.engines if isinstance(e, yw.ViscBridgeGuard)]
         if guard:
             result['guardChecks'] = guard[0].checks
+if args.save and me == 0 and result['error'] is None:
+    O.save(args.save)
 with open('%s.rank%d.json' % (args.out, me), 'w') as fh:
     json.dump(result, fh)

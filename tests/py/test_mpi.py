@@ -169,6 +169,30 @@ def test_guard_stop_is_global_and_names_rank_and_body():
     assert int(prefix.split('rank ')[1].split()[0]) in (1, 2)  # a worker: the master owns no particle
 
 
+def test_particles_left_to_the_master_are_refused():
+    """Without subdomains assigned, mpy leaves every particle to the master, which sends no states
+    to the workers: the first step stops on every rank, naming a body and what to do."""
+    results = run_case(2, '--no-decompose', '--steps', '20')
+    for r in results:
+        assert r['iter'] == 0 and r['error'] == results[0]['error']
+    assert results[0]['error'].startswith('RuntimeError: (yade.mpy rank 0 of 2) Body #')  # O.run reports any error so
+    assert 'viscbridge.mpi.decompose()' in results[0]['error']
+
+
+def test_merged_scene_saved_and_run_on_serially(tmp_path):
+    """150 steps on 3 ranks, merged and saved; loaded in one process the scene is refused (its
+    particles belong to subdomains 1 and 2, which YADE's NewtonIntegrator would never move) until
+    viscbridge.mpi.to_serial(); then 150 more steps land on the positions of 300 serial steps."""
+    saved = str(tmp_path / 'merged.yade.gz')
+    first = run_case(3, '--steps', '150', '--save', saved)
+    assert first[0]['error'] is None and os.path.exists(saved)
+    resumed = run_case(1, '--load', saved, '--steps', '150')[0]
+    assert 'NewtonIntegrator would never move it' in resumed['refusedBeforeToSerial']
+    assert resumed['toSerial'] == 40 and resumed['error'] is None and resumed['iter'] == 300
+    serial = run_case(1)[0]
+    assert max_relative_position_difference(serial['positions'], resumed['positions']) <= 1e-9
+
+
 def test_decompose_makes_equal_slabs_and_leaves_walls_to_the_master():
     import viscbridge.scenes as scenes
     scenes.settling(n=30, viscosity=0.1, seed=2)
