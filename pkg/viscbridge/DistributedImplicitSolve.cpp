@@ -131,7 +131,7 @@ vb::SolveReport solveOverRanks(const Scene* scene, const vb::ImplicitViscousSyst
 	auto [rz, rr] = dotsOverRanks(scene, r, z);
 	for (rep.iterations = 0; rep.iterations < maxIterations; ++rep.iterations) {
 		rep.residual = std::sqrt(rr) / bnorm;
-		if (rep.residual <= tolerance) break;
+		if (rep.residual <= tolerance || !std::isfinite(rep.residual)) break; // global: every rank stops here
 		sys.apply(p, Ap, false);
 		Ap                 = Ap.cwiseProduct(own);
 		const double alpha = rz / distributed::sum(scene, p.dot(Ap));

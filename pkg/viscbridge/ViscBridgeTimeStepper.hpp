@@ -43,7 +43,9 @@ public:
 		"that collisions are resolved before any contact exists. With "
 		":yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous.integration` = 'implicit', the viscous part is "
 		"dropped (P15) and the collision part governs. The default safety 0.5 puts a dashpot-dominated "
-		"pair at $t_v$: stable (limit $2t_v$) and free of spurious rebound.",
+		"pair at $t_v$: stable (limit $2t_v$) and free of spurious rebound.\n\n"
+		"Under yade.mpy (docs/cluster.md) the bound is the minimum over the ranks, so that every rank sets the same dt; "
+		"a dt that differs between ranks stops every rank.",
 		((Real,safety,0.5,Attr::triggerPostLoad,"Fraction of the bound used as time step, in (0, 1]."))
 		((Real,maxGrowth,1.1,Attr::triggerPostLoad,"Largest factor by which dt may grow in one update, >= 1 (decreases apply at once)."))
 		((Real,rayleighFraction,0.4,Attr::triggerPostLoad,"Collision bound of a sphere: rayleighFraction × its Rayleigh time T_R, in (0, 1] (0.4 × safety 0.5 = the customary 0.2 T_R)."))

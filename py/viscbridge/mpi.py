@@ -135,7 +135,8 @@ def to_serial():
     saved and loaded again) a plain serial scene: every body back in subdomain 0 and mpy's
     Subdomain bodies removed.  YADE's NewtonIntegrator never moves a body of another subdomain than
     the scene's, so without this a merged scene run on serially would stand still (ViscBridge's
-    guard and time stepper refuse to run it).  Returns the number of bodies reassigned."""
+    guard and time stepper refuse to run it).  The scene is then serial for good: do not pass it to
+    ``mp.mpirun`` again (mpy needs its Subdomain bodies).  Returns the number of bodies reassigned."""
     from yade import O
     if getattr(O, 'splitted', False):
         raise RuntimeError('to_serial(): the scene is still split over the ranks; merge it first (mp.mpirun(..., withMerge=True))')
