@@ -4,7 +4,7 @@ split by yade.mpy (`mpiexec -n N yade -n -x mpi_case.py OUT ...`).
 Every rank writes OUT.rank<k>.json: its own dt at every step, the error that stopped it (if any)
 and, on rank 0 (which holds the merged scene at the end), the positions, O.energy summed over the
 ranks, the initial kinetic energy and the bridges.  Options (after OUT):
-  --integration explicit|implicit   --steps N   --viscosity MU   --tolerance TOL (implicit)
+  --integration explicit|implicit   --steps N   --viscosity MU   --speed V (initial, m/s)   --tolerance TOL (implicit)
   --dt DT         a fixed time step (no ViscBridgeTimeStepper)
   --no-guard      without ViscBridgeGuard
   --mismatch      run 5 steps, then give rank 1 twice the dt and run on (must be refused)
@@ -28,6 +28,7 @@ ap.add_argument('out')
 ap.add_argument('--integration', default='explicit')
 ap.add_argument('--steps', type=int, default=300)
 ap.add_argument('--viscosity', type=float, default=0.01)
+ap.add_argument('--speed', type=float, default=0.3)
 ap.add_argument('--tolerance', type=float, default=None)
 ap.add_argument('--dt', type=float, default=None)
 ap.add_argument('--no-guard', action='store_true')
@@ -44,10 +45,10 @@ if distributed:
 
 
 def build():
-    """40 spheres in a column 5 diameters wide, thrown at 0.3 m/s into each other and the walls,
+    """40 spheres in a column 5 diameters wide, thrown at 0.3 m/s (--speed) into each other and the walls,
     bridges forming within 0.5 r: many bridges (across the subdomains too) and a large part of the
     energy dissipated within 300 steps."""
-    scenes.settling(n=40, viscosity=args.viscosity, seed=3, initialSpeed=0.3, cloudFraction=0.25, formationDistance=2.5e-4, width=5e-3,
+    scenes.settling(n=40, viscosity=args.viscosity, seed=3, initialSpeed=args.speed, cloudFraction=0.25, formationDistance=2.5e-4, width=5e-3,
                     integration=args.integration, dt=args.dt, guard=not args.no_guard)
     if args.tolerance:
         for e in O.engines:
