@@ -75,6 +75,14 @@ endif()
 if("MPI" IN_LIST YADE_FEATURES)
   find_package(MPI REQUIRED COMPONENTS CXX)
   target_link_libraries(yade::yade INTERFACE MPI::MPI_CXX)
+  # core/Subdomain.hpp (yade.mpy's subdomain, read by pkg/viscbridge/Distributed*.cpp) includes
+  # mpi4py's C API header
+  execute_process(COMMAND ${Python3_EXECUTABLE} -c "import mpi4py; print(mpi4py.get_include())"
+    OUTPUT_VARIABLE MPI4PY_INCLUDE_DIR OUTPUT_STRIP_TRAILING_WHITESPACE RESULT_VARIABLE _rc)
+  if(NOT _rc EQUAL 0)
+    message(FATAL_ERROR "YADE has the MPI feature but mpi4py is not importable (install python3-mpi4py).")
+  endif()
+  target_include_directories(yade::yade SYSTEM INTERFACE "${MPI4PY_INCLUDE_DIR}")
 endif()
 if("GTS" IN_LIST YADE_FEATURES)
   find_package(PkgConfig REQUIRED)

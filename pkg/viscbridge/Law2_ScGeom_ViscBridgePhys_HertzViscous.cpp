@@ -1,4 +1,5 @@
 #include "Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
+#include "Distributed.hpp"
 #include "physics/PairKernel.hpp"
 #include "ViscBridgeGuard.hpp"
 #include "ViscBridgeImplicitSolver.hpp"
@@ -71,7 +72,9 @@ namespace {
 		scene->forces.addForce(id2, -f.force1);
 		scene->forces.addTorque(id1, f.torque1);
 		scene->forces.addTorque(id2, f.torque2);
-		bookEnergy<Cm, E>(law, e);
+		// [MPI] an interaction shared by two ranks of yade.mpy is booked by one (always true serially)
+		if constexpr (E || Cm::Capillary::capabilities.enabled)
+			if (distributed::ownershipThisStep(scene).interaction(*I, scene)) bookEnergy<Cm, E>(law, e);
 		return true;
 	}
 

@@ -25,10 +25,12 @@ void NetworkOfScene::gather(const Scene* scene, bool viscousExplicit)
 	idOf.clear();
 	op.scale.clear();
 	op.pairs.clear();
+	op.key.clear();
 	for (const auto& b : *scene->bodies) {
 		if (!b || !b->isDynamic() || !(b->state->mass > 0)) continue;
 		compactOf[b->getId()] = static_cast<int>(idOf.size());
 		idOf.push_back(b->getId());
+		op.key.push_back(b->getId()); // the start vector's noise follows the body, not the numbering
 		op.scale.push_back(scaleOf(*b->state));
 	}
 	const int vbIndex = ViscBridgePhys::getClassIndexStatic();

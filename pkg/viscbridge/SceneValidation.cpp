@@ -1,4 +1,5 @@
 #include "SceneValidation.hpp"
+#include "Distributed.hpp"
 #include "Ip2_FrictMat_FrictMat_ViscBridgePhys.hpp"
 #include "Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
 #include "ViscBridgeImplicitSolver.hpp"
@@ -116,7 +117,9 @@ void validateScene(const Scene* scene, bool checkDt)
 		                            "(no other law handles ViscBridgePhys).");
 	if (!f.ip2) return;
 	for (const auto& b : *scene->bodies)
-		if (b && b->shape) validateBody(*b);
+		if (b && b->shape && !distributed::isSubdomainBody(*b)) validateBody(*b); // [MPI] mpy's subdomains are not particles
+	distributed::requireParticlesOnWorkers(scene);     // [MPI]
+	distributed::requireOneSubdomainWhenSerial(scene); // [MPI] e.g. a merged scene run on serially
 	if (f.law->integrationIndex != static_cast<int>(vb::Integration::implicitEuler)) return;
 	bool                    seenLoop = false, solverAfterLoop = false, newtonAfterSolver = false;
 	const NewtonIntegrator* newton = nullptr;

@@ -7,6 +7,7 @@
 #include "physics/TimeStepBounds.hpp"
 #include "physics/Validation.hpp"
 #include "SceneValidation.hpp"
+#include "Distributed.hpp"
 #include <core/InteractionLoop.hpp>
 #include <core/Scene.hpp>
 #include <pkg/common/ElastMat.hpp>
@@ -88,11 +89,12 @@ Real ViscBridgeGuard::storedElasticEnergy() const
 	// of dynamic_cast (a ViscBridgePhys only exists on ScGeom-derived geometry: its Law2 needs it).
 	const int  vbIndex = ViscBridgePhys::getClassIndexStatic();
 	const long n       = static_cast<long>(scene->interactions->size());
+	const auto own     = distributed::ownership(scene); // [MPI] this rank's share
 	Real       e       = 0;
 #pragma omp parallel for schedule(static) reduction(+ : e)
 	for (long k = 0; k < n; ++k) {
 		const shared_ptr<Interaction>& I = (*scene->interactions)[k];
-		if (!I->isReal() || I->phys->getClassIndex() != vbIndex) continue;
+		if (!I->isReal() || I->phys->getClassIndex() != vbIndex || !own.interaction(*I, scene)) continue;
 		const auto& ph = static_cast<const ViscBridgePhys&>(*I->phys);
 		const auto& g  = static_cast<const ScGeom&>(*I->geom);
 		if (g.penetrationDepth <= 0) continue;
@@ -110,10 +112,11 @@ Real ViscBridgeGuard::capillaryWorkSoFar() const
 
 Real ViscBridgeGuard::mechanicalEnergyNow() const
 {
-	Real e = storedElasticEnergy();
+	const auto own = distributed::ownership(scene); // [MPI] this rank's share, then the sum over ranks
+	Real       e   = storedElasticEnergy();
 	for (const auto& b : *scene->bodies)
-		if (b && counted(*b)) e += bodyKineticEnergy(*b->state);
-	return e;
+		if (b && counted(*b) && own.body(*b)) e += bodyKineticEnergy(*b->state);
+	return distributed::sum(scene, e);
 }
 
 void ViscBridgeGuard::takeReference(Real slack)
@@ -162,8 +165,9 @@ void ViscBridgeGuard::accumulateBoundaryWork(bool newRun)
 	lastPos.resize(scene->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
 	if (kinematic.empty() || scene->iter % iterPeriod == 0) { // the bodies the user moves: refreshed with each check
 		kinematic.clear();
+		const auto own = distributed::ownership(scene); // [MPI] on the rank that owns them
 		for (const auto& b : *scene->bodies)
-			if (b && !b->isDynamic()) kinematic.push_back(b->getId());
+			if (b && !b->isDynamic() && own.body(*b)) kinematic.push_back(b->getId());
 	}
 	for (Body::id_t id : kinematic) {
 		const shared_ptr<Body>& b = Body::byId(id, scene);
@@ -190,22 +194,26 @@ void ViscBridgeGuard::checkEnergy()
 	bool       finite  = true;
 	const long nBodies = static_cast<long>(scene->bodies->size());
 	const long nStart  = static_cast<long>(startPos.size());
+	const auto own     = distributed::ownership(scene); // [MPI] this rank's share
 #pragma omp parallel for schedule(static) reduction(+ : kinetic, gravityWork) reduction(&& : finite)
 	for (long k = 0; k < nBodies; ++k) {
 		const shared_ptr<Body>& b = (*scene->bodies)[k];
-		if (!b || !counted(*b)) continue;
+		if (!b || !counted(*b) || !own.body(*b)) continue;
 		const State& st = *b->state;
 		finite          = finite && st.pos.allFinite() && st.vel.allFinite() && st.angVel.allFinite();
 		kinetic += bodyKineticEnergy(st);
 		if (k < nStart) gravityWork += st.mass * gravity.dot(st.pos - startPos[k]);
 	}
+	// what moving bodies and capillary attraction (minus its booked work, P21) have put in
+	Real elastic = finite ? storedElasticEnergy() : 0, work = boundaryWork - (capillaryWorkSoFar() - capillaryAtReference);
+	// [MPI] the check is global: every rank compares the sums over all ranks (no-op serially)
+	sumOverRanks(kinetic, gravityWork, work, elastic, finite);
 	kineticEnergy = kinetic;
-	// what gravity, moving bodies and capillary attraction (minus its booked work, P21) have put in
-	energyIn      = startEnergy + std::max<Real>(0, gravityWork + boundaryWork - (capillaryWorkSoFar() - capillaryAtReference));
+	energyIn      = startEnergy + std::max<Real>(0, gravityWork + work);
 	std::string what;
 	Real        mechanical = 0;
 	if (finite) {
-		mechanical = kinetic + storedElasticEnergy();
+		mechanical = kinetic + elastic;
 		if (!std::isfinite(mechanical) || mechanical > energyMargin * energyIn + energyFloor)
 			what = "the kinetic + elastic energy " + fmt(mechanical) + " J exceeds what the scene had at step " + std::to_string(referenceIter)
 			        + " plus the work of gravity and moving bodies since, " + fmt(energyIn) + " J (× " + fmt(energyMargin) + " allowed)";
@@ -218,7 +226,7 @@ void ViscBridgeGuard::checkEnergy()
 	Body::id_t culprit = -1;
 	Real       most    = -1;
 	for (const auto& b : *scene->bodies) {
-		if (!b || !counted(*b)) continue;
+		if (!b || !counted(*b) || !own.body(*b)) continue;
 		const State& st = *b->state;
 		if (!(st.pos.allFinite() && st.vel.allFinite() && st.angVel.allFinite())) {
 			what    = "body #" + std::to_string(b->getId()) + " has a NaN or inf position or velocity";
@@ -230,7 +238,10 @@ void ViscBridgeGuard::checkEnergy()
 			culprit = b->getId();
 		}
 	}
-	lastError = diagnose(culprit, what);
+	// [MPI] the culprit over all ranks; its rank writes the diagnosis that every rank raises
+	const int culpritRank = distributedCulprit(culprit, most);
+	lastError = distributed::broadcast(scene, culpritRank, diagnose(culprit, what));
+	lastError = distributed::rankLabel(scene, culpritRank) + lastError;
 	LOG_ERROR(lastError);
 	throw std::runtime_error(lastError);
 }
@@ -265,6 +276,7 @@ std::string ViscBridgeGuard::diagnose(Body::id_t worst, const std::string& what)
 	// a tangential model that is not dissipative can put energy in by itself (physics.md P7)
 	const bool washino = functors.ip2 && !viscbridge::TangentialModels::capabilities[functors.ip2->selection.tangential].dissipative;
 	bound.evaluate(scene, implicit, 0.4);
+	distributed::reduceTimeStepBound(scene, bound.collision, bound.viscous, bound.combined, bound.criticalBody); // [MPI] all ranks
 	if (washino)
 		msg << " The scene uses tangentialModel='" << functors.ip2->tangentialModel << "', which is not dissipative (physics.md P7): it can "
 		    << "create kinetic energy at any time step, so this gain may be the model's rather than an unstable time step; 'slip' and "
@@ -312,15 +324,20 @@ std::string ViscBridgeGuard::diagnose(Body::id_t worst, const std::string& what)
 
 void ViscBridgeGuard::action()
 {
-	const std::string pending = takePendingError();
+	// [MPI] an error found on any rank (e.g. by the law) stops every rank, with the same message
+	const std::string pending = distributed::firstError(scene, takePendingError());
 	if (!pending.empty()) {
 		lastError = pending;
 		throw std::runtime_error(pending);
 	}
-	const bool   newRun    = startsNewRun();
-	const size_t signature = sceneSignature(scene);
-	if (signature != checkedSignature || scene->iter == 0) {
-		validateScene(scene, true);
+	bool         newRun    = startsNewRun();
+	const size_t signature = sceneSignature(scene) ^ distributed::ownedBodiesSignature(scene); // [MPI] bodies moved between ranks
+	bool         changed   = signature != checkedSignature || scene->iter == 0;
+	// [MPI] every rank takes the same branch below (a collective in one is awaited by all) and steps
+	// with the same dt (no-op serially)
+	agreeWithOtherRanks(changed, newRun);
+	if (changed) {
+		distributed::collectively(scene, [&] { validateScene(scene, true); }); // [MPI] one rank's error stops all
 		checkedSignature = signature;
 		referencePending = true;
 	} else if (referencePending || rebaselineRequested) {

@@ -35,6 +35,10 @@ class ViscBridgeGuard : public GlobalEngine {
 	Real        capillaryWorkSoFar() const; // the law's −(capillary work), cumulative
 	std::string diagnose(Body::id_t worst, const std::string& what);
 	std::string safeStepAdvice(bool implicit, bool washino);
+	// [MPI] under yade.mpy, the same decisions on every rank (ViscBridgeGuardDistributed.cpp; no-ops serially)
+	void agreeWithOtherRanks(bool& changed, bool& newRun);
+	void sumOverRanks(Real& kinetic, Real& gravityWork, Real& work, Real& elastic, bool& finite) const;
+	int  distributedCulprit(Body::id_t culprit, Real kinetic) const;
 
 public:
 	// Raises `message` at the start of the next step (adds a guard to O.engines if there is none):
@@ -69,7 +73,10 @@ public:
 		"margin the scene had at the last check: velocities or positions changed by hand between two "
 		"runs (an impact 'kick') are then the new starting point, not a blow-up, while a slowly "
 		"growing instability still runs out of margin. After changing the state by hand between "
-		"single ``O.step()`` calls, call :yref:`rebaseline()<ViscBridgeGuard.rebaseline>`.",
+		"single ``O.step()`` calls, call :yref:`rebaseline()<ViscBridgeGuard.rebaseline>`.\n\n"
+		"Under yade.mpy (docs/cluster.md) the check is global: energies and work are summed over the ranks, every rank "
+		"takes the same decision at the same step, a stop carries the rank that owns the body, and a dt that differs "
+		"between ranks stops every rank.",
 		((int,iterPeriod,10,Attr::triggerPostLoad,"Steps between the NaN and energy checks, >= 1 (walls' work is accumulated every step)."))
 		((Real,energyMargin,1.05,Attr::triggerPostLoad,"Factor on the energy put in that the kinetic energy may reach, >= 1."))
 		((Real,energyFloor,0,Attr::triggerPostLoad,"Kinetic energy always accepted [J], >= 0 (for scenes with nothing put in)."))

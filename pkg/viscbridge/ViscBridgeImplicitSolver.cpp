@@ -1,4 +1,6 @@
 #include "ViscBridgeImplicitSolver.hpp"
+#include "Distributed.hpp"
+#include "DistributedImplicitSolve.hpp"
 #include "ViscBridgePhys.hpp"
 #include "physics/ImplicitViscousSystem.hpp"
 #include "physics/Validation.hpp"
@@ -96,6 +98,7 @@ void ViscBridgeImplicitSolver::action()
 		touched[I->getId1()] = touched[I->getId2()] = 1;
 	}
 	std::vector<int>            index(scene->bodies->size(), -1);
+	const auto                  own = distributed::ownership(scene); // [MPI] a rank solves for its own bodies
 	std::vector<Body::id_t>     ids;
 	std::vector<vb::SystemBody> bodies;
 	std::vector<long>           pattern;
@@ -111,7 +114,7 @@ void ViscBridgeImplicitSolver::action()
 		if (b.isClumpMember())
 			throw std::invalid_argument("ViscBridgeImplicitSolver: body #" + std::to_string(id) + " is a member of clump #" + std::to_string(b.clumpId)
 			                            + ", and clumps are not integrated implicitly (a member moves with its clump); use integration='explicit' for scenes with clumps.");
-		const bool moves = b.isDynamic() && st.mass > 0;
+		const bool moves = b.isDynamic() && st.mass > 0 && own.body(b); // [MPI] other ranks' bodies: ghosts (prescribed here)
 		long       freeBits = 0;
 		for (int d = 0; d < 6; ++d) {
 			sb.free[d] = moves && !(st.blockedDOFs & State::axisDOF(d % 3, d >= 3));
@@ -142,7 +145,7 @@ void ViscBridgeImplicitSolver::action()
 	}
 	std::sort(pattern.begin(), pattern.end());
 	bridges = static_cast<int>(system.size());
-	if (system.empty()) {
+	if (!distributed::any(scene, !system.empty())) { // [MPI] a rank without bridges still takes part while others have some
 		iterations = 0;
 		residual   = 0;
 		return;
@@ -164,7 +167,7 @@ void ViscBridgeImplicitSolver::action()
 		}
 	}
 	const vb::Preconditioner* pre = nullptr;
-	if (preconditioner == "cholesky") {
+	if (preconditioner == "cholesky" && sys.size() > 0) {
 		const bool samePattern = factorisation && pattern == factorisedPattern && factorisation->matches(sys.size());
 		if (!samePattern || lastIterationsSeen > refreshIterations || factorisedIter < 0) {
 			if (!factorisation) factorisation = shared_ptr<vb::LaggedCholesky>(new vb::LaggedCholesky);
@@ -181,7 +184,9 @@ void ViscBridgeImplicitSolver::action()
 	}
 	timeFactorise += seconds(phase);
 	phase                     = Clock::now();
-	const vb::SolveReport rep = sys.solve(x, tolerance, maxIterations, pre);
+	// [MPI] under yade.mpy: one system over all ranks (CG with the ghosts' velocities exchanged)
+	const vb::SolveReport rep = distributed::active(scene) ? solveOverRanks(scene, sys, ids, x, tolerance, maxIterations, pre)
+	                                                       : sys.solve(x, tolerance, maxIterations, pre);
 	timeSolve += seconds(phase);
 	phase = Clock::now();
 	lastIterationsSeen        = rep.iterations;
@@ -197,6 +202,10 @@ void ViscBridgeImplicitSolver::action()
 		LOG_WARN("ViscBridgeImplicitSolver: CG did not reach tolerance " << tolerance << " in " << maxIterations << " iterations at step " << scene->iter
 		                                                                 << "; solved with the sparse Cholesky fallback (relative residual " << residual << ").");
 	}
+	if (!rep.converged && distributed::active(scene)) // [MPI] the same on every rank: there is no direct fallback over ranks
+		throw std::runtime_error("ViscBridgeImplicitSolver: CG over the " + std::to_string(distributed::ranks(scene)) + " ranks of yade.mpy did not reach tolerance "
+		                         + vb::formatValue(tolerance) + " in maxIterations=" + std::to_string(maxIterations) + " at step " + std::to_string(scene->iter)
+		                         + " (relative residual " + vb::formatValue(rep.residual) + "); raise ViscBridgeImplicitSolver.maxIterations.");
 	if (!rep.converged || !x.allFinite())
 		throw std::runtime_error("ViscBridgeImplicitSolver: the implicit viscous system could not be solved at step " + std::to_string(scene->iter)
 		                         + " (relative residual " + vb::formatValue(rep.residual) + " after CG and the direct fallback).");
@@ -254,7 +263,7 @@ void ViscBridgeImplicitSolver::action()
 		ph.shearViscousForce  = -R[k].force1 - normal;
 		ph.normalForce -= normal; // YADE sense (sustained by body 2)
 		ph.shearForce -= ph.shearViscousForce;
-		if (scene->trackEnergy) {
+		if (scene->trackEnergy && own.interaction(*described[k], scene)) { // [MPI] a shared bridge is booked by one rank
 			tangentialEffect = tangentialEffect || bl.resistance.m11 != 0 || bl.resistance.m22 != 0;
 			dissipN += bl.cn * vn1 * 0.5 * (vn1 + vn0) * dt;
 			const vb::TangentialWork w = vb::tangentialWork(bl.resistance, u1, s1, u0, s0);

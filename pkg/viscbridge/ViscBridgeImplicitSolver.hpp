@@ -48,7 +48,10 @@ public:
 		"nearly exact); 'jacobi' uses 6×6 blocks per body instead (no factorisation, but hundreds of "
 		"iterations when Δt·C/m is large). If CG does not converge within maxIterations, the "
 		"assembled system is factorised and solved directly instead, with a warning and `fallbacks` "
-		"counting it; if that fails too, the run stops with an error.",
+		"counting it; if that fails too, the run stops with an error.\n\n"
+		"Under yade.mpy (docs/cluster.md) it solves one system over all ranks: each rank holds its own bodies' rows, the "
+		"velocities of the neighbours' bodies its bridges touch are exchanged at every CG iteration, and the residual is "
+		"global (same tolerance as serially; preconditioner: each rank's own block, no direct fallback).",
 		((Real,tolerance,1e-9,Attr::triggerPostLoad,"Relative residual ‖r‖/‖b‖ at which CG stops, in (0, 1)."))
 		((int,maxIterations,500,Attr::triggerPostLoad,"CG iterations before the direct fallback, >= 1."))
 		((bool,warmStart,true,,"Start CG from the velocities the last step's viscous forces would give (else from the current velocities)."))

@@ -4,6 +4,8 @@
 #include "physics/NetworkSpectrum.hpp"
 #include "physics/TimeStepBounds.hpp"
 #include "physics/Validation.hpp"
+#include "Distributed.hpp"
+#include "NetworkOverRanks.hpp"
 #include <algorithm>
 #include <limits>
 #include <numeric>
@@ -30,6 +32,7 @@ void ViscBridgeTimeStepper::postLoad(ViscBridgeTimeStepper&)
 	}
 	lastValidSafety = safety, lastValidGrowth = maxGrowth, lastValidRayleigh = rayleighFraction, lastValidMaxDt = maxDt;
 	lastValidTolerance = tolerance, lastValidIterations = maxIterations, lastValidInterval = maxInterval;
+	restoreSavedState();
 }
 
 bool ViscBridgeTimeStepper::isActivated()
@@ -53,16 +56,24 @@ void ViscBridgeTimeStepper::fullUpdate(Scene* sc)
 {
 	const bool implicit = viscousImplicit();
 	bound.evaluate(sc, implicit, rayleighFraction);
+	agreeOnBounds(sc); // [MPI] the smallest over the ranks
 	network.gather(sc, !implicit);
 	viscbridge::VecX mode;
 	network.modeFromIds(modeById, mode);
 	// where bridges formed since the last update, a new stiffest mode may be: into the start
 	std::vector<std::size_t> candidates;
 	for (Body::id_t id : changedBodies)
-		if (static_cast<size_t>(id) < network.compactOf.size() && network.compactOf[id] >= 0 && candidates.size() < 48)
+		if (static_cast<size_t>(id) < network.compactOf.size() && network.compactOf[id] >= 0)
 			for (int d = 0; d < 3; ++d) candidates.push_back(6 * network.compactOf[id] + d);
 	changedBodies.clear();
-	const viscbridge::StabilityEstimate e = viscbridge::stabilityLimit(network.op, mode, tolerance, maxIterations, candidates);
+	// [MPI] under yade.mpy all ranks iterate together on the whole network (NetworkOverRanks.hpp)
+	viscbridge::StabilityEstimate e;
+	if (distributed::active(sc)) {
+		const NetworkOverRanks overRanks(sc, network);
+		e    = viscbridge::stabilityLimit(overRanks, mode, tolerance, maxIterations, candidates);
+		mode = overRanks.ownPart(mode); // so that the critical bodies named are this rank's own
+	} else
+		e = viscbridge::stabilityLimit(network.op, mode, tolerance, maxIterations, candidates);
 	network.modeToIds(mode, modeById);
 	// the quotients scaled up by the residual: networkLimit of them is h/(1 + ‖r‖/θ) (P18)
 	modeD = e.d * (1 + e.residual), modeK = e.k * (1 + e.residual);
@@ -93,14 +104,16 @@ void ViscBridgeTimeStepper::addFormedBridges(Scene* sc)
 {
 	auto* law = const_cast<Law2_ScGeom_ViscBridgePhys_HertzViscous*>(findViscBridgeFunctors(sc).law);
 	if (!law) return;
+	law->recordFormations = true; // also after loading a scene (the flag is not saved)
 	const bool implicit = viscousImplicit();
 	for (const auto& f : law->takeFormed()) {
 		const Real d = implicit ? 0 : f.damping, k = f.stiffness;
 		for (Body::id_t id : { f.id1, f.id2 }) {
 			const shared_ptr<Body>& b = Body::byId(id, sc);
 			if (!b || !b->isDynamic() || static_cast<size_t>(id) >= addedDamping.size()) continue;
+			// a body is a candidate once (their number, not the order they formed in, sets the start)
+			if (addedDamping[id] == 0 && addedStiffness[id] == 0 && (d > 0 || k > 0)) changedBodies.push_back(id);
 			addedDamping[id] += d, addedStiffness[id] += k;
-			if (changedBodies.size() < 16) changedBodies.push_back(id);
 			// Weyl: the top eigenvalue grows by at most the largest row sum the new pairs add
 			addedD = std::max(addedD, addedDamping[id]), addedK = std::max(addedK, addedStiffness[id]);
 			hP14   = std::min(hP14, bound.bodyLimit(id, addedDamping[id], addedStiffness[id]));
@@ -118,6 +131,7 @@ void ViscBridgeTimeStepper::describeMode()
 	}
 	std::sort(share.begin(), share.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
 	criticalBodies.clear();
+	criticalShare = share.empty() ? 0 : share.front().first;
 	Real carried = 0;
 	for (const auto& s : share) {
 		if (carried >= 0.9 * total || criticalBodies.size() >= 10) break;
@@ -137,15 +151,20 @@ void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 {
 	const size_t signature = sceneSignature(sc);
 	const bool   changed   = signature != validatedSignature;
-	if (changed) { // e.g. a sphere of radius 0 would give dt = 0 or NaN
-		validateScene(sc, false);
-		validatedSignature = signature;
-	}
-	if (changed || lastUpdateIter < 0 || sc->iter - lastUpdateIter >= updateInterval) fullUpdate(sc);
-	else {
-		addFormedBridges(sc);
-		if (limitNow() < 0.9 * hAtUpdate) fullUpdate(sc); // the new bridges moved the limit: look again
-	}
+	// [MPI] under yade.mpy a rank's invalid body stops every rank (none is left waiting below)
+	distributed::collectively(sc, [&] {
+		if (changed) { // e.g. a sphere of radius 0 would give dt = 0 or NaN
+			validateScene(sc, false);
+			validatedSignature = signature;
+		}
+	});
+	const bool due = lastUpdateIter < 0 || sc->iter - lastUpdateIter >= updateInterval;
+	addFormedBridges(sc);
+	// a scene just loaded has new engine objects (a new signature) but the saved state is its own
+	bool anyChanged = changed && !resumesSavedState(sc);
+	agreeOnChanges(sc, anyChanged); // [MPI] a change anywhere and the corrections of all ranks
+	// a full update when due, or when the new bridges moved the limit: look again
+	if (anyChanged || due || limitNow() < 0.9 * hAtUpdate) fullUpdate(sc);
 	const Real network = limitNow(), h = std::min(network, bound.rayleigh);
 	dtNetwork   = safety * network;
 	dtP14       = safety * hP14;
@@ -161,6 +180,7 @@ void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 		governing    = 2 * network * modeD >= network * network * modeK ? "viscous-network" : "collision";
 		criticalBody = !criticalBodies.empty() ? criticalBodies.front() : bound.criticalBody;
 	}
+	agreeWithOtherRanks(sc); // [MPI] the smallest limit of all ranks, the same dt on all of them
 	Real dt = dtBound;
 	if (maxDt > 0) dt = std::min(dt, maxDt);
 	if (!std::isfinite(dt)) return; // nothing to bound (no dynamic spheres, no contacts): keep dt

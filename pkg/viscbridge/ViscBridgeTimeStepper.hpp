@@ -18,6 +18,11 @@ class ViscBridgeTimeStepper : public TimeStepper {
 	std::vector<Real>             addedDamping, addedStiffness; // per body id, since the last full update
 	std::vector<Body::id_t>       changedBodies;                // bodies of the bridges formed since
 	long                          lastUpdateIter = -1;
+	// [saved scenes] ViscBridgeTimeStepperState.cpp: the state unpacked from savedState when loading,
+	// used at the first step if the scene is still the one saved (its signature; 0: none)
+	size_t                        resumedSignature = 0;
+	void                          restoreSavedState();
+	bool                          resumesSavedState(const Scene*);
 	Real lastValidSafety = 0.5, lastValidGrowth = 1.1, lastValidRayleigh = 0.4, lastValidMaxDt = 0, lastValidTolerance = 1e-3;
 	int  lastValidIterations = 30, lastValidInterval = 50;
 
@@ -26,12 +31,22 @@ class ViscBridgeTimeStepper : public TimeStepper {
 	void addFormedBridges(Scene*); // the corrections between full updates
 	Real limitNow() const;         // the bracketed limit with the corrections [s]
 	void describeMode();
+	Real criticalShare = 0; // the largest share of a body in the mode
+	// [MPI] under yade.mpy (ViscBridgeTimeStepperDistributed.cpp; no-ops serially): the bounds of the
+	// last evaluation, whether anything changed and the corrections since the last update, and the
+	// described mode, all over the ranks, so that they take the same decisions and set the same dt
+	void agreeOnBounds(Scene*);
+	void agreeOnChanges(Scene*, bool& changed);
+	void agreeWithOtherRanks(Scene*);
 
 public:
 	void computeTimeStep(Scene*) override;
 	bool isActivated() override;
 	Real exactLimit();
+	void reset();
 	void postLoad(ViscBridgeTimeStepper&);
+	void preSave(ViscBridgeTimeStepper&);
+	void postSave(ViscBridgeTimeStepper&);
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(ViscBridgeTimeStepper, TimeStepper,
 		"Sets :yref:`O.dt<Omega.dt>` = safety × the stability limit of the explicit scheme on the live "
@@ -51,7 +66,9 @@ public:
 		"'implicit' the bridges' viscous damping leaves the operator (P15).\n\n"
 		"The default safety 0.5 puts a dashpot-dominated mode at $1/\\lambda_{max}$ of its damping, the "
 		"limit below which a viscous mode decays without reversing (no spurious rebound; for an equal "
-		"pair $t_v$, P12).",
+		"pair $t_v$, P12).\n\n"
+		"Under yade.mpy (docs/cluster.md) the limit is the minimum over the ranks (each sees its own bodies' "
+		"interactions), so that every rank sets the same dt; a dt that differs between ranks stops every rank.",
 		((Real,safety,0.5,Attr::triggerPostLoad,"Fraction of the stability limit used as time step, in (0, 1]."))
 		((Real,maxGrowth,1.1,Attr::triggerPostLoad,"Largest factor by which dt may grow in one step, >= 1 (decreases apply at once)."))
 		((Real,rayleighFraction,0.4,Attr::triggerPostLoad,"Collision bound of a sphere: rayleighFraction × its Rayleigh time T_R, in (0, 1] (0.4 × safety 0.5 = the customary 0.2 T_R)."))
@@ -68,18 +85,21 @@ public:
 		((Real,errorBound,0,Attr::readonly,"Relative width of the bracket of the true limit: (dtRitz − dtNetwork)/dtRitz."))
 		((string,governing,"collision",Attr::readonly,"What sets dt: 'viscous-network' (a mode of the network dominated by the bridges' damping), 'collision' (one dominated by contact stiffness), or 'rayleigh' (the spheres' Rayleigh bound)."))
 		((int,criticalBody,-1,Attr::readonly,"Id of the body with the largest share of the top mode (or of the smallest P14 or Rayleigh bound when that governs), -1 if none."))
-		((vector<int>,criticalBodies,,Attr::readonly,"Ids of the bodies carrying 90 % of the top mode, largest share first (at most 10)."))
+		((vector<int>,criticalBodies,,Attr::readonly,"Ids of the bodies carrying 90 % of the top mode, largest share first (at most 10; under yade.mpy, of this rank's part of the network)."))
 		((int,iterations,0,Attr::readonly,"Operator products of the last full update."))
 		((Real,residual,0,Attr::readonly,"Relative residual of the mode at the last full update."))
 		((long,updates,0,Attr::readonly,"Full updates so far."))
 		((int,updateInterval,1,Attr::readonly,"Steps between full updates now."))
 		((Real,modeDamping,0,Attr::readonly,"The top mode's damping quotient $y^T\\tilde Dy$ [1/s]."))
 		((Real,modeStiffness,0,Attr::readonly,"The top mode's stiffness quotient $y^T\\tilde Ky$ [1/s²]."))
+		((vector<Real>,savedState,,Attr::hidden,"The state between full updates a saved scene resumes from (written on saving, read on loading; internal)."))
 		,
 		/* ctor */ timeStepUpdateInterval = 1;
 		,
 		/* py */
-		.def("exactLimit", &ViscBridgeTimeStepper::exactLimit,
+.def("reset", &ViscBridgeTimeStepper::reset,
+		     "Forget the mode and the corrections since the last full update: the next step starts the mode iteration afresh (viscbridge.mpi.to_serial() calls it: a merged scene holds one rank's part of them).")
+				.def("exactLimit", &ViscBridgeTimeStepper::exactLimit,
 		     "The network limit of the current scene by a dense eigen-solution (O(n³) in the number of bodies: for small scenes and checks), without safety [s].")
 	);
 	// clang-format on

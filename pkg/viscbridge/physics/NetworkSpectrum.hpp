@@ -20,7 +20,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <random>
 #include <vector>
 
 namespace viscbridge {
@@ -35,11 +34,13 @@ struct NetworkPair {
 };
 
 // D̃ and K̃ of a network: per body, the scale 1/√m (×3) and 1/√I (×3) that makes the coordinates
-// mass-scaled (0 for a blocked component), and its pairs.
+// mass-scaled (0 for a blocked component), and its pairs.  `key` names each body the same way whatever
+// the numbering of this operator (a body id), so that the start vector does not depend on it.
 class NetworkOperator {
 public:
-	std::vector<Vec6> scale;
-	std::vector<NetworkPair>                 pairs;
+	std::vector<Vec6>        scale;
+	std::vector<NetworkPair> pairs;
+	std::vector<long>        key; // per body, a name independent of the numbering (its id); empty: the index
 
 	std::size_t size() const { return 6 * scale.size(); }
 
@@ -101,37 +102,81 @@ struct StabilityEstimate {
 	bool   converged  = false;
 };
 
+// Where the iteration's vectors live.  Locally, the whole network: products are the operator's,
+// reductions are plain.  A network split over processes (yade.mpy) provides another space with the
+// same members: `apply` refreshes the entries other processes own before the product and leaves
+// only this one's rows, `owns` tells its own degrees of freedom, `dot`, `sum`, `max` reduce over the processes, `largest` ranks entries over
+// all of them, so that every process takes the same decisions and the result does not depend on the
+// split (up to rounding).
+struct LocalNetwork {
+	const NetworkOperator& op;
+	std::size_t            size() const { return op.size(); }
+	bool                   owns(std::size_t) const { return true; }
+	void                   apply(const VecX& y, VecX& Dy, VecX& Ky) const { op.apply(y, Dy, Ky); }
+	void                   diagonal(VecX& D, VecX& K) const { op.diagonal(D, K); }
+	double                 dot(const VecX& a, const VecX& b) const { return a.dot(b); }
+	double                 sum(double v) const { return v; }
+	double                 max(double v) const { return v; }
+	// (value, key) of the `count` largest of these entries of all processes, largest first
+	std::vector<std::pair<double, long>> largest(const std::vector<std::pair<double, long>>& mine, std::size_t) const { return mine; }
+};
+
 namespace detail {
+	// A key per degree of freedom: the body's key and the component.
+	inline long dofKey(const NetworkOperator& op, std::size_t i)
+	{
+		const std::size_t body = i / 6;
+		return 6 * (op.key.empty() ? static_cast<long>(body) : op.key[body]) + static_cast<long>(i % 6);
+	}
+	// A pseudo-random number in [−1, 1] for a key (SplitMix64): the same for a degree of freedom however
+	// the network is numbered or split.
+	inline double noise(long key)
+	{
+		unsigned long long z = static_cast<unsigned long long>(key) + 0x9E3779B97F4A7C15ULL;
+		z                    = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+		z                    = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+		z ^= z >> 31;
+		return 2.0 * static_cast<double>(z >> 11) / static_cast<double>(1ULL << 53) - 1.0;
+	}
+
 	// A vector together with its two images.
 	struct Imaged {
 		VecX x, Dx, Kx;
 	};
-	inline void orthogonalise(Imaged& w, const Imaged& against)
+	template <class Space> void orthogonalise(const Space& s, Imaged& w, const Imaged& against)
 	{
-		const double c = against.x.dot(w.x);
+		const double c = s.dot(against.x, w.x);
 		w.x -= c * against.x, w.Dx -= c * against.Dx, w.Kx -= c * against.Kx;
 	}
-	inline bool normalise(Imaged& w)
+	template <class Space> bool normalise(const Space& s, Imaged& w)
 	{
-		const double n = w.x.norm();
+		const double n = std::sqrt(s.dot(w.x, w.x));
 		if (!(n > 1e-12)) return false;
 		w.x /= n, w.Dx /= n, w.Kx /= n;
 		return true;
 	}
-}
 
-namespace detail {
 	// The degrees of freedom with the largest diagonal entries of h²K̃ + 2hD̃: where the stiffest
-	// local modes sit.
-	inline std::vector<std::size_t> largestEntries(const VecX& D, const VecX& K, double h, std::size_t count)
+	// local modes sit (ties broken by key, so that the choice does not depend on the numbering).
+	template <class Space>
+	std::vector<std::size_t> largestEntries(const Space& s, const VecX& D, const VecX& K, double h, std::size_t count)
 	{
-		std::vector<std::pair<double, std::size_t>> e;
+		using Entry = std::pair<double, long>;
+		auto before = [](const Entry& a, const Entry& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); };
+		std::vector<Entry>       e;
+		std::vector<std::size_t> at;
 		for (long i = 0; i < D.size(); ++i)
-			if (D[i] > 0 || K[i] > 0) e.push_back({ h * h * K[i] + 2 * h * D[i], static_cast<std::size_t>(i) });
+			if (D[i] > 0 || K[i] > 0) e.push_back({ h * h * K[i] + 2 * h * D[i], dofKey(s.op, i) });
 		const std::size_t k = std::min(count, e.size());
-		std::partial_sort(e.begin(), e.begin() + k, e.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+		std::partial_sort(e.begin(), e.begin() + k, e.end(), before);
+		e.resize(k);
+		std::vector<Entry> all = s.largest(e, count);
+		std::sort(all.begin(), all.end(), before);
+		if (all.size() > count) all.resize(count);
 		std::vector<std::size_t> out;
-		for (std::size_t i = 0; i < k; ++i) out.push_back(e[i].second);
+		for (long i = 0; i < D.size(); ++i)
+			for (const Entry& a : all)
+				if (a.second == dofKey(s.op, i) && (D[i] > 0 || K[i] > 0)) out.push_back(static_cast<std::size_t>(i));
 		return out;
 	}
 
@@ -139,18 +184,29 @@ namespace detail {
 	// fixed pseudo-random vector.  A network of separate clusters has an eigenvector in each, with zero
 	// residual: started on one, the iteration would stay there although another cluster's mode is
 	// stiffer.  With every candidate in the start it moves to the top one.
-	inline VecX startVector(const VecX& previous, const std::vector<std::size_t>& candidates, std::size_t n)
+	template <class Space> VecX startVector(const Space& s, const VecX& previous, bool warm, const std::vector<std::size_t>& candidates)
 	{
-		const bool warm = previous.size() == static_cast<long>(n) && previous.norm() > 0;
-		VecX       x    = warm ? VecX(previous.normalized()) : VecX(VecX::Zero(n));
+		const std::size_t n = s.size();
+		VecX              x = warm ? VecX(previous) : VecX(VecX::Zero(n));
+		if (warm) {
+			// an eigenvector's sign is arbitrary (rounding picks it); fixing it against the noise makes
+			// the start, hence the step, the same however the network is split over processes
+			VecX e(n);
+			for (std::size_t i = 0; i < n; ++i) e[i] = noise(dofKey(s.op, i));
+			x /= std::copysign(std::sqrt(s.dot(x, x)), s.dot(x, e));
+		}
 		// beside a previous mode, a tenth of its weight: enough to grow if stiffer, little to clean if not
-		const double candidateWeight = (warm ? 0.1 : 1.0) / std::sqrt(static_cast<double>(std::max<std::size_t>(candidates.size(), 1)));
-		for (std::size_t i : candidates) x[i] += candidateWeight;
-		std::mt19937                           seeded(12345); // fixed: the same result on every run
-		std::uniform_real_distribution<double> u(-1, 1);
-		const double                           weight = x.norm() > 0 ? 1e-3 / std::sqrt(static_cast<double>(n)) : 1.0;
-		for (std::size_t i = 0; i < n; ++i) x[i] += weight * u(seeded);
-		return x.normalized();
+		std::vector<std::size_t> mine; // a process adds its own degrees of freedom only
+		for (std::size_t i : candidates)
+			if (s.owns(i)) mine.push_back(i);
+		const double candidateWeight = (warm ? 0.1 : 1.0) / std::sqrt(std::max(s.sum(static_cast<double>(mine.size())), 1.0));
+		for (std::size_t i : mine) x[i] += candidateWeight;
+		std::size_t owned = 0;
+		for (std::size_t i = 0; i < n; ++i) owned += s.owns(i) ? 1 : 0;
+		const double dofs   = s.sum(static_cast<double>(owned));
+		const double weight = s.dot(x, x) > 0 ? 1e-3 / std::sqrt(dofs) : 1.0;
+		for (std::size_t i = 0; i < n; ++i) x[i] += weight * noise(dofKey(s.op, i));
+		return x / std::sqrt(s.dot(x, x));
 	}
 }
 
@@ -182,23 +238,25 @@ inline double denseStabilityLimit(const NetworkOperator& op)
 }
 
 // LOBPCG from `start` (see stabilityLimit).
-inline StabilityEstimate lobpcg(const NetworkOperator& op, const VecX& start, double tolerance, int maxIterations, VecX& mode)
+template <class Space> StabilityEstimate lobpcg(const Space& s, const VecX& start, double tolerance, int maxIterations, VecX& mode)
 {
 	StabilityEstimate est;
-	const std::size_t n = op.size();
+	const std::size_t n = s.size();
 	detail::Imaged    x, w, p;
 	x.x = start;
-	op.apply(x.x, x.Dx, x.Kx);
+	s.apply(x.x, x.Dx, x.Kx);
 	++est.iterations;
 	bool haveP = false;
 	for (;;) {
-		est.d = x.x.dot(x.Dx), est.k = x.x.dot(x.Kx);
+		est.d = s.dot(x.x, x.Dx), est.k = s.dot(x.x, x.Kx);
 		est.h = networkLimit(est.d, est.k);
 		if (!std::isfinite(est.h)) break; // the start sees nothing: no bound (the caller has P14)
 		const double h = est.h, theta = 4.0; // at this h the quotient is exactly 4
 		const VecX   r = h * h * x.Kx + 2 * h * x.Dx - theta * x.x;
-		est.residual  = r.norm() / theta;
-		if (est.residual <= tolerance) {
+		est.residual  = std::sqrt(s.dot(r, r)) / theta;
+		// at least one Rayleigh–Ritz step: a warm start sitting on a lesser mode has a small residual,
+		// and only the step on span{x, r} lets the top mode's share in it (the noise) grow
+		if (est.residual <= tolerance && est.iterations > 1) {
 			est.converged = true;
 			break;
 		}
@@ -206,21 +264,21 @@ inline StabilityEstimate lobpcg(const NetworkOperator& op, const VecX& start, do
 		// LOBPCG: Rayleigh–Ritz on span{x, r, p}; the images of every vector are kept, so the subspace
 		// can be re-weighted for a new h without new products
 		w.x = r;
-		op.apply(w.x, w.Dx, w.Kx);
+		s.apply(w.x, w.Dx, w.Kx);
 		++est.iterations;
-		detail::orthogonalise(w, x);
-		if (!detail::normalise(w)) break;
+		detail::orthogonalise(s, w, x);
+		if (!detail::normalise(s, w)) break;
 		std::vector<const detail::Imaged*> basis { &x, &w };
 		if (haveP) {
-			detail::orthogonalise(p, x);
-			detail::orthogonalise(p, w);
-			if (detail::normalise(p)) basis.push_back(&p);
+			detail::orthogonalise(s, p, x);
+			detail::orthogonalise(s, p, w);
+			if (detail::normalise(s, p)) basis.push_back(&p);
 		}
 		const int       m = static_cast<int>(basis.size());
 		Eigen::MatrixXd G(m, m);
 		for (int a = 0; a < m; ++a)
 			for (int b = 0; b < m; ++b)
-				G(a, b) = basis[a]->x.dot(h * h * basis[b]->Kx + 2 * h * basis[b]->Dx);
+				G(a, b) = s.dot(basis[a]->x, h * h * basis[b]->Kx + 2 * h * basis[b]->Dx);
 		Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(0.5 * (G + G.transpose()));
 		const Eigen::VectorXd c = eig.eigenvectors().col(m - 1);
 		detail::Imaged        next;
@@ -231,7 +289,7 @@ inline StabilityEstimate lobpcg(const NetworkOperator& op, const VecX& start, do
 			dir.x += c[a] * basis[a]->x, dir.Dx += c[a] * basis[a]->Dx, dir.Kx += c[a] * basis[a]->Kx;
 		}
 		next.x += dir.x, next.Dx += dir.Dx, next.Kx += dir.Kx;
-		if (!detail::normalise(next)) break;
+		if (!detail::normalise(s, next)) break;
 		p     = dir;
 		haveP = true;
 		x     = next;
@@ -244,27 +302,41 @@ inline StabilityEstimate lobpcg(const NetworkOperator& op, const VecX& start, do
 // The top mode of h²K̃ + 2hD̃ at the h where its eigenvalue is 4 (P18).  `mode` is the previous
 // mode (empty at first) and receives the new one.  Warm, the start is the previous mode with a tenth
 // of `candidates` (degrees of freedom where the network changed, e.g. bodies with new bridges).  Cold,
-// it is the largest diagonal entries, and since a diagonal entry is a Rayleigh quotient, one above
-// the eigenvalue found shows that the iteration settled on a lesser mode: it is started again there.
-inline StabilityEstimate stabilityLimit(const NetworkOperator& op, VecX& mode, double tolerance, int maxIterations,
-                                        const std::vector<std::size_t>& candidates = {})
+// it is the largest diagonal entries.  Either way, since a diagonal entry is a Rayleigh quotient, one
+// above the eigenvalue found shows that the iteration settled on a lesser mode: it is started again there.
+template <class Space>
+StabilityEstimate stabilityLimit(const Space& s, VecX& mode, double tolerance, int maxIterations, const std::vector<std::size_t>& candidates = {})
 {
-	const std::size_t n = op.size();
-	if (n == 0 || op.pairs.empty()) return StabilityEstimate();
-	const bool warm = mode.size() == static_cast<long>(n) && mode.norm() > 0;
-	if (warm) return lobpcg(op, detail::startVector(mode, candidates, n), tolerance, maxIterations, mode);
+	const std::size_t n = s.size();
+	if (s.sum(static_cast<double>(s.op.pairs.size())) == 0 || s.sum(static_cast<double>(n)) == 0) return StabilityEstimate();
+	// (every reduction is reached by every process: the short-circuits depend on reduced values only)
+	const bool sized    = mode.size() == static_cast<long>(n);
+	const VecX previous = sized ? mode : VecX(VecX::Zero(n));
+	const bool warm     = s.sum(sized ? 0.0 : 1.0) == 0 && s.dot(previous, previous) > 0;
 	VecX diagD, diagK;
-	op.diagonal(diagD, diagK);
-	const double      hDiag = networkLimit(diagD.maxCoeff(), diagK.maxCoeff()); // where the entries are compared first
-	StabilityEstimate est   = lobpcg(op, detail::startVector(mode, detail::largestEntries(diagD, diagK, hDiag, 8), n), tolerance, maxIterations, mode);
+	s.diagonal(diagD, diagK);
+	// where the entries are compared first
+	const double      hDiag = networkLimit(s.max(diagD.size() ? diagD.maxCoeff() : 0.0), s.max(diagK.size() ? diagK.maxCoeff() : 0.0));
+	const auto        start = warm ? candidates : detail::largestEntries(s, diagD, diagK, hDiag, 8);
+	StabilityEstimate est   = lobpcg(s, detail::startVector(s, mode, warm, start), tolerance, maxIterations, mode);
+	// warm or cold, a diagonal entry above the eigenvalue found shows a stiffer mode elsewhere
 	for (int restart = 0; restart < 3 && std::isfinite(est.h) && est.iterations < maxIterations; ++restart) {
-		const std::vector<std::size_t> top = detail::largestEntries(diagD, diagK, est.h, 1);
-		if (top.empty() || est.h * est.h * diagK[top[0]] + 2 * est.h * diagD[top[0]] <= 4 * (1 + tolerance)) break;
+		const std::vector<std::size_t> top   = detail::largestEntries(s, diagD, diagK, est.h, 1);
+		const double                   above = top.empty() ? 0.0 : est.h * est.h * diagK[top[0]] + 2 * est.h * diagD[top[0]];
+		if (s.max(above) <= 4 * (1 + tolerance)) break;
 		const int spent = est.iterations;
-		est             = lobpcg(op, detail::startVector(mode, top, n), tolerance, maxIterations - spent, mode);
+		est             = lobpcg(s, detail::startVector(s, mode, true, top), tolerance, maxIterations - spent, mode);
 		est.iterations += spent;
 	}
 	return est;
 }
 
+// The same on a whole (not split) network.
+inline StabilityEstimate stabilityLimit(const NetworkOperator& op, VecX& mode, double tolerance, int maxIterations,
+                                        const std::vector<std::size_t>& candidates = {})
+{
+	return stabilityLimit(LocalNetwork { op }, mode, tolerance, maxIterations, candidates);
+}
+
 } // namespace viscbridge
+
