@@ -180,6 +180,45 @@ namespace detail {
 		return out;
 	}
 
+	// A pair's relative motion along its normal, y = (s₁∘n, −s₂∘n) in mass-scaled coordinates, is a
+	// Rayleigh quotient of the whole operator at least cₙσ (σ = Σ_k n_k²(s₁k² + s₂k²), the inverse reduced
+	// mass along n; other bridges only add): so h* ≤ the pair's own limit (P12/P13).  The stiffest pair
+	// over the network (over all processes, ties by key) and its vector, a witness against a lesser mode.
+	template <class Space> double stiffestPair(const Space& s, VecX& witness)
+	{
+		using Entry = std::pair<double, long>;
+		const NetworkOperator& op = s.op;
+		auto sigmaOf = [&](const NetworkPair& p) {
+			double sigma = 0;
+			for (int k = 0; k < 3; ++k)
+				for (int b : { p.body1, p.body2 })
+					if (b >= 0) sigma += p.damping.n[k] * p.damping.n[k] * op.scale[b][k] * op.scale[b][k];
+			return sigma;
+		};
+		auto keyOf = [&](const NetworkPair& p) {
+			auto k = [&](int b) { return b < 0 ? -1L : (op.key.empty() ? static_cast<long>(b) : op.key[b]); };
+			return (k(p.body1) + 1) * (1L << 26) + k(p.body2) + 1; // exact in a double up to 6.7e7 bodies
+		};
+		auto  before = [](const Entry& a, const Entry& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); };
+		Entry best { 0.0, 0 };
+		for (const NetworkPair& p : op.pairs) {
+			const double sigma = sigmaOf(p);
+			const Entry  e { 1 / networkLimit(p.damping.valid ? p.damping.cn * sigma : 0, p.stiffness.valid ? p.stiffness.cn * sigma : 0), keyOf(p) };
+			if (before(e, best)) best = e;
+		}
+		std::vector<Entry> all = s.largest(best.first > 0 ? std::vector<Entry> { best } : std::vector<Entry> {}, 1);
+		witness.setZero(s.size());
+		if (all.empty()) return std::numeric_limits<double>::infinity();
+		best = *std::min_element(all.begin(), all.end(), before);
+		for (const NetworkPair& p : op.pairs)
+			if (keyOf(p) == best.second)
+				for (int side = 0; side < 2; ++side) {
+					const int b = side == 0 ? p.body1 : p.body2;
+					if (b >= 0) witness.segment<3>(6 * b) = (side == 0 ? 1.0 : -1.0) * op.scale[b].head<3>().cwiseProduct(p.damping.n);
+				}
+		return 1 / best.first;
+	}
+
 	// The start: the previous mode, plus unit vectors where the diagonal is largest, plus a little of a
 	// fixed pseudo-random vector.  A network of separate clusters has an eigenvector in each, with zero
 	// residual: started on one, the iteration would stay there although another cluster's mode is
@@ -326,6 +365,13 @@ StabilityEstimate stabilityLimit(const Space& s, VecX& mode, double tolerance, i
 		if (s.max(above) <= 4 * (1 + tolerance)) break;
 		const int spent = est.iterations;
 		est             = lobpcg(s, detail::startVector(s, mode, true, top), tolerance, maxIterations - spent, mode);
+		est.iterations += spent;
+	}
+	// and a pair whose own limit lies below the one found: started again from its relative motion
+	VecX witness;
+	if (std::isfinite(est.h) && est.iterations < maxIterations && detail::stiffestPair(s, witness) < est.h * (1 - tolerance)) {
+		const int spent = est.iterations;
+		est             = lobpcg(s, witness / std::sqrt(s.dot(witness, witness)), tolerance, maxIterations - spent, mode);
 		est.iterations += spent;
 	}
 	return est;
