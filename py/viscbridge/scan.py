@@ -282,8 +282,19 @@ def bisect_threshold(is_unstable, lo, hi, tolerance=0.02, max_expand=30):
 # ------------------------------------------------------------------------------------------------
 # one case, inside YADE
 # ------------------------------------------------------------------------------------------------
+def _saved_format():
+    """The attribute names of the ViscBridge classes a saved bed holds: YADE's archives list every
+    attribute in order, so a bed saved by a build with other attributes would not load again."""
+    import yade.wrapper as yw
+    classes = ('ViscBridgeTimeStepper', 'ViscBridgeGuard', 'Ip2_FrictMat_FrictMat_ViscBridgePhys',
+               'Law2_ScGeom_ViscBridgePhys_HertzViscous', 'ViscBridgePhys', 'ViscBridgeImplicitSolver')
+    return {c: sorted(getattr(yw, c)().dict()) for c in classes}
+
+
 def _bed_path(case, cache_dir):
-    key = hashlib.sha1(json.dumps({k: case[k] for k in _BED_KEYS}, sort_keys=True).encode()).hexdigest()[:16]
+    # the format in the key: a bed cached by an older build is rebuilt, not loaded and refused
+    identity = dict({k: case[k] for k in _BED_KEYS}, savedFormat=_saved_format())
+    key = hashlib.sha1(json.dumps(identity, sort_keys=True).encode()).hexdigest()[:16]
     return os.path.join(cache_dir, 'bed-%s.yade.gz' % key)
 
 
