@@ -4,6 +4,7 @@
 // would start the mode iteration afresh and take a dt that differs within the tolerance.
 #include "ViscBridgeTimeStepper.hpp"
 #include <boost/functional/hash.hpp>
+#include <core/Omega.hpp>
 #include <stdexcept>
 
 namespace yade {
@@ -61,7 +62,9 @@ void ViscBridgeTimeStepper::preSave(ViscBridgeTimeStepper&)
 	pack(savedState, addedStiffness);
 	pack(savedState, changedBodies);
 	pack(savedState, bound.summed);
-	packSignature(savedState, scene ? stateSignature(scene) : 0);
+	// the scene being saved is Omega's (Engine::scene can be stale for an engine not yet run in it)
+	const Scene* saved = Omega::instance().getScene().get();
+	packSignature(savedState, saved && lastUpdateIter >= 0 ? stateSignature(saved) : 0);
 }
 
 void ViscBridgeTimeStepper::reset()
