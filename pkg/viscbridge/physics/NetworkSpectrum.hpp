@@ -156,13 +156,16 @@ namespace detail {
 		return true;
 	}
 
+	// A value with the key that names it; ranked largest first, ties by key, so that every process
+	// (and any numbering) picks the same.
+	using Entry = std::pair<double, long>;
+	inline bool before(const Entry& a, const Entry& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); }
+
 	// The degrees of freedom with the largest diagonal entries of h²K̃ + 2hD̃: where the stiffest
 	// local modes sit (ties broken by key, so that the choice does not depend on the numbering).
 	template <class Space>
 	std::vector<std::size_t> largestEntries(const Space& s, const VecX& D, const VecX& K, double h, std::size_t count)
 	{
-		using Entry = std::pair<double, long>;
-		auto before = [](const Entry& a, const Entry& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); };
 		std::vector<Entry>       e;
 		std::vector<std::size_t> at;
 		for (long i = 0; i < D.size(); ++i)
@@ -186,7 +189,6 @@ namespace detail {
 	// over the network (over all processes, ties by key) and its vector, a witness against a lesser mode.
 	template <class Space> double stiffestPair(const Space& s, VecX& witness)
 	{
-		using Entry = std::pair<double, long>;
 		const NetworkOperator& op = s.op;
 		auto sigmaOf = [&](const NetworkPair& p) {
 			double sigma = 0;
@@ -199,7 +201,6 @@ namespace detail {
 			auto k = [&](int b) { return b < 0 ? -1L : (op.key.empty() ? static_cast<long>(b) : op.key[b]); };
 			return (k(p.body1) + 1) * (1L << 26) + k(p.body2) + 1; // exact in a double up to 6.7e7 bodies
 		};
-		auto  before = [](const Entry& a, const Entry& b) { return a.first > b.first || (a.first == b.first && a.second < b.second); };
 		Entry best { 0.0, 0 };
 		for (const NetworkPair& p : op.pairs) {
 			const double sigma = sigmaOf(p);
