@@ -337,7 +337,12 @@ void ViscBridgeGuard::action()
 	// with the same dt (no-op serially)
 	agreeWithOtherRanks(changed, newRun);
 	if (changed) {
-		distributed::collectively(scene, [&] { validateScene(scene, true); }); // [MPI] one rank's error stops all
+		try {
+			distributed::collectively(scene, [&] { validateScene(scene, true); }); // [MPI] one rank's error stops all
+		} catch (const std::exception& e) {
+			lastError = e.what(); // readable even where YADE's O.run(n, True) loses a first-step error
+			throw;
+		}
 		checkedSignature = signature;
 		referencePending = true;
 	} else if (referencePending || rebaselineRequested) {

@@ -91,6 +91,8 @@ if args.load:  # a merged scene runs on serially only once it is made serial aga
     except RuntimeError as error:
         result['refusedBeforeToSerial'] = str(error)
     result['toSerial'] = viscbridge.mpi.to_serial()
+guards = [e for e in O.engines if isinstance(e, yw.ViscBridgeGuard)]
+error_before = guards[0].lastError if guards else ''
 try:
     if args.mismatch:
         run(5)
@@ -101,6 +103,10 @@ try:
         run(args.steps)
 except Exception as error:  # every rank must stop with the same message, none may hang
     result['error'] = '%s: %s' % (type(error).__name__, error)
+if result['error'] is None and guards and guards[0].lastError != error_before:
+    # YADE's O.run(n, True) can miss an error thrown in the engine thread at the very first step
+    # (it returns as if the run had finished, O.iter still 0): the guard has kept the message
+    result['error'] = 'RuntimeError: ' + guards[0].lastError
 result['iter'] = O.iter
 result['dts'] = DTS
 if result['error'] is None:
