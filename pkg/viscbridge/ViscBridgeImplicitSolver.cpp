@@ -38,14 +38,12 @@ void ViscBridgeImplicitSolver::postLoad(ViscBridgeImplicitSolver&)
 }
 
 namespace {
-	const NewtonIntegrator* findNewton(const Scene* scene)
-	{
-		for (const auto& e : scene->engines)
-			if (const auto* n = dynamic_cast<const NewtonIntegrator*>(e.get())) return n;
-		return nullptr;
-	}
+	namespace vb = viscbridge;
+	using Clock  = std::chrono::steady_clock;
+	Real seconds(Clock::time_point since) { return std::chrono::duration<Real>(Clock::now() - since).count(); }
 }
 
+// The work of the last step's forces, now that Newton has reported the kinetic energy they produced.
 void ViscBridgeImplicitSolver::bookPendingWork()
 {
 	if (!pendingWork) return;
@@ -59,17 +57,50 @@ void ViscBridgeImplicitSolver::bookPendingWork()
 	pendingWork = false;
 }
 
-namespace {
-	using Clock = std::chrono::steady_clock;
-	Real seconds(Clock::time_point since) { return std::chrono::duration<Real>(Clock::now() - since).count(); }
-}
+struct ViscBridgeImplicitSolver::Gathered {
+	std::vector<Interaction*>    described; // the bridges, in the system's order
+	std::vector<ViscBridgePhys*> owners;
+	std::vector<Body::id_t>      ids; // the system's bodies, ordered by id (same bodies, same system)
+	std::vector<vb::SystemBody>  bodies;
+	std::vector<vb::SystemBridge> system;
+	std::vector<long>            pattern; // bodies with their free components, and bridges: decides whether the factor's analysis still holds
+};
 
 void ViscBridgeImplicitSolver::action()
 {
-	const auto started = Clock::now();
+	auto phase = Clock::now();
+	auto lap   = [&phase](Real& total) {
+                total += seconds(phase);
+                phase = Clock::now();
+	};
 	bookPendingWork();
-	namespace vb             = viscbridge;
-	const NewtonIntegrator* newton = findNewton(scene);
+	const NewtonIntegrator& newton = checkScene();
+	Gathered                g      = gather(newton);
+	bridges                        = static_cast<int>(g.system.size());
+	if (!distributed::any(scene, !g.system.empty())) { // [MPI] a rank without bridges still takes part while others have some
+		iterations = 0;
+		residual   = 0;
+		return;
+	}
+	const vb::ImplicitViscousSystem sys(std::move(g.bodies), std::move(g.system), scene->dt);
+	Eigen::VectorXd                 x = warmStartGuess(sys, g.ids);
+	lap(timeGather);
+	const vb::Preconditioner* pre = refreshPreconditioner(sys, g.pattern);
+	lap(timeFactorise);
+	solve(sys, g.ids, x, pre);
+	lap(timeSolve);
+	const std::vector<vb::BridgeResistance> R = sys.bridgeForces(x);
+	applyForces(sys, g.ids, x, R);
+	lap(timeApply);
+	bookEnergy(sys, g, x, R);
+	lap(timeEnergy);
+}
+
+const NewtonIntegrator& ViscBridgeImplicitSolver::checkScene()
+{
+	const NewtonIntegrator* newton = nullptr;
+	for (const auto& e : scene->engines)
+		if (const auto* n = dynamic_cast<const NewtonIntegrator*>(e.get())) newton = n;
 	if (!newton) throw std::runtime_error("ViscBridgeImplicitSolver: no NewtonIntegrator in O.engines; the implicit velocities need it.");
 	if (newton->damping != 0)
 		throw std::invalid_argument(
@@ -80,122 +111,121 @@ void ViscBridgeImplicitSolver::action()
 		validateScene(scene, false);
 		validatedSignature = signature;
 	}
-	const Real     dt      = scene->dt;
-	const Vector3r gravity = newton->gravity;
+	return *newton;
+}
 
-	// The bridges the law described this step, and the bodies they touch (ordered by id, so that
-	// the same bodies and bridges give the same system, and a factorisation can be reused).
+// The bridges the law described this step, and the bodies they touch with every other force of the
+// step (gravity included, as Newton will add it).
+ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const NewtonIntegrator& newton)
+{
 	scene->forces.sync();
-	std::vector<Interaction*>    described;
-	std::vector<ViscBridgePhys*> owners;
-	std::vector<char>            touched(scene->bodies->size(), 0);
+	Gathered g;
+	touched.assign(scene->bodies->size(), -1);
 	for (const auto& I : *scene->interactions) {
 		if (!I->isReal()) continue;
 		auto* ph = dynamic_cast<ViscBridgePhys*>(I->phys.get());
 		if (!ph || !ph->bridge || !ph->implicitBlock.valid || ph->implicitBlockIter != scene->iter) continue;
-		described.push_back(I.get());
-		owners.push_back(ph);
-		touched[I->getId1()] = touched[I->getId2()] = 1;
+		g.described.push_back(I.get());
+		g.owners.push_back(ph);
+		touched[I->getId1()] = touched[I->getId2()] = 0;
 	}
-	std::vector<int>            index(scene->bodies->size(), -1);
-	const auto                  own = distributed::ownership(scene); // [MPI] a rank solves for its own bodies
-	std::vector<Body::id_t>     ids;
-	std::vector<vb::SystemBody> bodies;
-	std::vector<long>           pattern;
+	const auto own = distributed::ownership(scene); // [MPI] a rank solves for its own bodies
 	for (Body::id_t id = 0; id < static_cast<Body::id_t>(touched.size()); ++id) {
-		if (!touched[id]) continue;
-		const Body&    b  = *Body::byId(id, scene);
-		const State&   st = *b.state;
-		vb::SystemBody sb;
-		sb.mass          = st.mass;
-		sb.inertia       = st.inertia[0];
-		sb.vel           = st.vel;
-		sb.angVel        = st.angVel;
-		if (b.isClumpMember())
-			throw std::invalid_argument("ViscBridgeImplicitSolver: body #" + std::to_string(id) + " is a member of clump #" + std::to_string(b.clumpId)
-			                            + ", and clumps are not integrated implicitly (a member moves with its clump); use integration='explicit' for scenes with clumps.");
-		const bool moves = b.isDynamic() && st.mass > 0 && own.body(b); // [MPI] other ranks' bodies: ghosts (prescribed here)
-		long       freeBits = 0;
-		for (int d = 0; d < 6; ++d) {
-			sb.free[d] = moves && !(st.blockedDOFs & State::axisDOF(d % 3, d >= 3));
-			freeBits |= sb.free[d] ? (1L << d) : 0;
-		}
-		if (moves) {
-			sb.force  = scene->forces.getForce(id);
-			sb.torque = scene->forces.getTorque(id);
-			for (int d = 0; d < 3; ++d)
-				if (sb.free[d]) sb.force[d] += st.mass * gravity[d]; // Newton adds gravity to unblocked components
-		}
-		index[id] = static_cast<int>(bodies.size());
-		bodies.push_back(sb);
-		ids.push_back(id);
-		pattern.push_back(id * 64 + freeBits);
+		if (touched[id] < 0) continue;
+		touched[id] = static_cast<int>(g.bodies.size());
+		g.bodies.push_back(systemBody(*Body::byId(id, scene), own.body(*Body::byId(id, scene)), newton.gravity));
+		g.ids.push_back(id);
+		long freeBits = 0;
+		for (int d = 0; d < 6; ++d)
+			freeBits |= g.bodies.back().free[d] ? (1L << d) : 0;
+		g.pattern.push_back(id * 64 + freeBits);
 	}
-	std::vector<vb::SystemBridge> system;
-	system.reserve(described.size());
-	for (size_t k = 0; k < described.size(); ++k) {
-		const Interaction* I = described[k];
+	g.system.reserve(g.described.size());
+	for (size_t k = 0; k < g.described.size(); ++k) {
+		const Interaction* I = g.described[k];
 		vb::SystemBridge   c;
-		c.body1    = index[I->getId1()];
-		c.body2    = index[I->getId2()];
-		c.block    = owners[k]->implicitBlock;
+		c.body1    = touched[I->getId1()];
+		c.body2    = touched[I->getId2()];
+		c.block    = g.owners[k]->implicitBlock;
 		c.shiftVel = scene->isPeriodic ? Vector3r(scene->cell->intrShiftVel(I->cellDist)) : Vector3r::Zero();
-		system.push_back(c);
-		pattern.push_back(-(static_cast<long>(std::min(c.body1, c.body2)) * (1L << 31) + std::max(c.body1, c.body2)) - 1);
+		g.system.push_back(c);
+		g.pattern.push_back(-(static_cast<long>(std::min(c.body1, c.body2)) * (1L << 31) + std::max(c.body1, c.body2)) - 1);
 	}
-	std::sort(pattern.begin(), pattern.end());
-	bridges = static_cast<int>(system.size());
-	if (!distributed::any(scene, !system.empty())) { // [MPI] a rank without bridges still takes part while others have some
-		iterations = 0;
-		residual   = 0;
-		return;
-	}
-	const size_t nBodies = bodies.size();
-	const vb::ImplicitViscousSystem sys(std::move(bodies), std::move(system), dt);
-	timeGather += seconds(started);
-	auto phase = Clock::now();
+	std::sort(g.pattern.begin(), g.pattern.end());
+	return g;
+}
 
-	// Warm start: the velocities last step's viscous forces would give now.
+vb::SystemBody ViscBridgeImplicitSolver::systemBody(const Body& b, bool owned, const Vector3r& gravity) const
+{
+	const State&   st = *b.state;
+	vb::SystemBody sb;
+	sb.mass    = st.mass;
+	sb.inertia = st.inertia[0];
+	sb.vel     = st.vel;
+	sb.angVel  = st.angVel;
+	if (b.isClumpMember())
+		throw std::invalid_argument("ViscBridgeImplicitSolver: body #" + std::to_string(b.id) + " is a member of clump #" + std::to_string(b.clumpId)
+		                            + ", and clumps are not integrated implicitly (a member moves with its clump); use integration='explicit' for scenes with clumps.");
+	const bool moves = b.isDynamic() && st.mass > 0 && owned; // [MPI] other ranks' bodies: ghosts (prescribed here)
+	for (int d = 0; d < 6; ++d)
+		sb.free[d] = moves && !(st.blockedDOFs & State::axisDOF(d % 3, d >= 3));
+	if (moves) {
+		sb.force  = scene->forces.getForce(b.id);
+		sb.torque = scene->forces.getTorque(b.id);
+		for (int d = 0; d < 3; ++d)
+			if (sb.free[d]) sb.force[d] += st.mass * gravity[d]; // Newton adds gravity to unblocked components
+	}
+	return sb;
+}
+
+// The velocities last step's viscous forces would give now (else the current ones).
+Eigen::VectorXd ViscBridgeImplicitSolver::warmStartGuess(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids) const
+{
 	Eigen::VectorXd x = sys.currentVelocities();
-	if (warmStart) {
-		lastViscousForce.resize(scene->bodies->size(), Vector3r::Zero());
-		lastViscousTorque.resize(scene->bodies->size(), Vector3r::Zero());
-		for (size_t i = 0; i < nBodies; ++i) {
-			const vb::SystemBody& b = sys.bodies()[i];
-			if (b.mass > 0) x.segment<3>(6 * i) += dt * (b.force + lastViscousForce[ids[i]]) / b.mass;
-			if (b.inertia > 0) x.segment<3>(6 * i + 3) += dt * (b.torque + lastViscousTorque[ids[i]]) / b.inertia;
-		}
+	if (!warmStart || lastViscousForce.size() != scene->bodies->size()) return x;
+	for (size_t i = 0; i < ids.size(); ++i) {
+		const vb::SystemBody& b = sys.bodies()[i];
+		if (b.mass > 0) x.segment<3>(6 * i) += scene->dt * (b.force + lastViscousForce[ids[i]]) / b.mass;
+		if (b.inertia > 0) x.segment<3>(6 * i + 3) += scene->dt * (b.torque + lastViscousTorque[ids[i]]) / b.inertia;
 	}
-	const vb::Preconditioner* pre = nullptr;
-	if (preconditioner == "cholesky" && sys.size() > 0) {
-		const bool samePattern = factorisation && pattern == factorisedPattern && factorisation->matches(sys.size());
-		if (!samePattern || lastIterationsSeen > refreshIterations || factorisedIter < 0) {
-			if (!factorisation) factorisation = shared_ptr<vb::LaggedCholesky>(new vb::LaggedCholesky);
-			if (factorisation->refresh(sys, samePattern)) {
-				factorisedPattern = pattern;
-				factorisedIter    = scene->iter;
-				++factorisations;
-			} else {
-				factorisation.reset(); // not positive definite: CG with block Jacobi, then the fallback
-				factorisedPattern.clear();
-			}
-		}
-		if (factorisation) pre = factorisation.get();
+	return x;
+}
+
+// The lagged factorisation, refactorised when the bridges or free components changed or the last
+// solve needed more than refreshIterations iterations (its analysis is kept if only the numbers changed).
+const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const vb::ImplicitViscousSystem& sys, const std::vector<long>& pattern)
+{
+	if (preconditioner != "cholesky" || sys.size() == 0) return nullptr;
+	const bool samePattern = factorisation && pattern == factorisedPattern && factorisation->matches(sys.size());
+	if (samePattern && lastIterationsSeen <= refreshIterations && factorisedIter >= 0) return factorisation.get();
+	if (!factorisation) factorisation = shared_ptr<vb::LaggedCholesky>(new vb::LaggedCholesky);
+	if (!factorisation->refresh(sys, samePattern)) {
+		factorisation.reset(); // not positive definite: CG with block Jacobi, then the fallback
+		factorisedPattern.clear();
+		return nullptr;
 	}
-	timeFactorise += seconds(phase);
-	phase                     = Clock::now();
+	factorisedPattern = pattern;
+	factorisedIter    = scene->iter;
+	factorBlocks      = static_cast<long>(factorisation->factor().offDiagonalBlocks());
+	++factorisations;
+	return factorisation.get();
+}
+
+void ViscBridgeImplicitSolver::solve(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, Eigen::VectorXd& x, const vb::Preconditioner* pre)
+{
 	// [MPI] under yade.mpy: one system over all ranks (CG with the ghosts' velocities exchanged)
 	const vb::SolveReport rep = distributed::active(scene) ? solveOverRanks(scene, sys, ids, x, tolerance, maxIterations, pre)
 	                                                       : sys.solve(x, tolerance, maxIterations, pre);
-	timeSolve += seconds(phase);
-	phase = Clock::now();
-	lastIterationsSeen        = rep.iterations;
-	unknowns                  = 0;
+	lastIterationsSeen = rep.iterations;
+	unknowns           = 0;
 	for (size_t d = 0; d < sys.size(); ++d)
 		unknowns += sys.isFree(d) ? 1 : 0;
 	iterations = rep.iterations;
 	residual   = rep.residual;
 	totalIterations += rep.iterations;
+	products += rep.products;
+	timeProducts += rep.productSeconds;
+	timePreconditioner += rep.preconditionerSeconds;
 	++solves;
 	if (rep.direct) {
 		++fallbacks;
@@ -209,11 +239,15 @@ void ViscBridgeImplicitSolver::action()
 	if (!rep.converged || !x.allFinite())
 		throw std::runtime_error("ViscBridgeImplicitSolver: the implicit viscous system could not be solved at step " + std::to_string(scene->iter)
 		                         + " (relative residual " + vb::formatValue(rep.residual) + " after CG and the direct fallback).");
+}
 
-	// The viscous forces that make NewtonIntegrator land on x: M(x − v)/Δt − F_other on free
-	// components; on prescribed ones (walls, fixed bodies, blocked DOFs) what the bridges exert.
-	const std::vector<vb::BridgeResistance> R = sys.bridgeForces(x);
-	std::vector<Vector3r>                   reactF(nBodies, Vector3r::Zero()), reactT(nBodies, Vector3r::Zero());
+// The viscous forces that make NewtonIntegrator land on x: M(x − v)/Δt − F_other on free
+// components; on prescribed ones (walls, fixed bodies, blocked DOFs) what the bridges exert.
+void ViscBridgeImplicitSolver::applyForces(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+                                           const std::vector<vb::BridgeResistance>& R)
+{
+	const size_t          nBodies = ids.size();
+	std::vector<Vector3r> reactF(nBodies, Vector3r::Zero()), reactT(nBodies, Vector3r::Zero());
 	for (size_t k = 0; k < R.size(); ++k) {
 		const vb::SystemBridge& c = sys.bridges()[k];
 		reactF[c.body1] -= R[k].force1;
@@ -222,11 +256,14 @@ void ViscBridgeImplicitSolver::action()
 		reactT[c.body2] -= R[k].torque2;
 	}
 	if (warmStart) {
+		lastViscousForce.resize(scene->bodies->size(), Vector3r::Zero());
+		lastViscousTorque.resize(scene->bodies->size(), Vector3r::Zero());
 		for (size_t i = 0; i < nBodies; ++i) {
 			lastViscousForce[ids[i]]  = reactF[i];
 			lastViscousTorque[ids[i]] = reactT[i];
 		}
 	}
+	const Real dt = scene->dt;
 	for (size_t i = 0; i < nBodies; ++i) {
 		const vb::SystemBody& b = sys.bodies()[i];
 		Vector3r              f = reactF[i], t = reactT[i];
@@ -237,16 +274,22 @@ void ViscBridgeImplicitSolver::action()
 		scene->forces.addForce(ids[i], f);
 		scene->forces.addTorque(ids[i], t);
 	}
+}
 
-	// What each bridge reports, and the work of its forces over the step, from the velocities the
-	// step started with and the implicit ones it ends with (physics.md §6).
-	Real dissipN = 0, dissipT = 0, dissipR = 0;
-	bool tangentialEffect = false;
-	const Eigen::VectorXd v0 = sys.currentVelocities();
+// What each bridge reports, and the work of its forces over the step, from the velocities the step
+// started with and the implicit ones it ends with (physics.md §6); booked at the next step.
+void ViscBridgeImplicitSolver::bookEnergy(const vb::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
+                                          const std::vector<vb::BridgeResistance>& R)
+{
+	const auto own = distributed::ownership(scene);
+	const Real dt  = scene->dt;
+	Real       dissipN = 0, dissipT = 0, dissipR = 0;
+	bool       tangentialEffect = false;
+	const Eigen::VectorXd v0    = sys.currentVelocities();
 	for (size_t k = 0; k < R.size(); ++k) {
 		const vb::SystemBridge& c  = sys.bridges()[k];
 		const vb::ViscousBlock& bl = c.block;
-		ViscBridgePhys&         ph = *owners[k];
+		ViscBridgePhys&         ph = *g.owners[k];
 		auto kinematics = [&](const Eigen::VectorXd& v, Vector3r& u, Vector3r& s) {
 			const Vector3r v1 = v.segment<3>(6 * c.body1), w1 = v.segment<3>(6 * c.body1 + 3), v2 = v.segment<3>(6 * c.body2),
 			               w2 = v.segment<3>(6 * c.body2 + 3);
@@ -263,7 +306,7 @@ void ViscBridgeImplicitSolver::action()
 		ph.shearViscousForce  = -R[k].force1 - normal;
 		ph.normalForce -= normal; // YADE sense (sustained by body 2)
 		ph.shearForce -= ph.shearViscousForce;
-		if (scene->trackEnergy && own.interaction(*described[k], scene)) { // [MPI] a shared bridge is booked by one rank
+		if (scene->trackEnergy && own.interaction(*g.described[k], scene)) { // [MPI] a shared bridge is booked by one rank
 			tangentialEffect = tangentialEffect || bl.resistance.m11 != 0 || bl.resistance.m22 != 0;
 			dissipN += bl.cn * vn1 * 0.5 * (vn1 + vn0) * dt;
 			const vb::TangentialWork w = vb::tangentialWork(bl.resistance, u1, s1, u0, s0);
@@ -278,7 +321,6 @@ void ViscBridgeImplicitSolver::action()
 		pendingTangentialKeys = tangentialEffect;
 		pendingWork           = true;
 	}
-	timeApply += seconds(phase);
 }
 
 } // namespace yade

@@ -1,11 +1,14 @@
 // ViscBridgeImplicitSolver: backward Euler for the viscous bridge forces over the whole contact
 // network (physics.md §4, P15), between InteractionLoop and NewtonIntegrator.
 #pragma once
+#include <core/Body.hpp>
 #include <core/GlobalEngine.hpp>
 #include "physics/ImplicitViscousSystem.hpp"
 #include <lib/base/openmp-accu.hpp>
 
 namespace yade {
+
+class NewtonIntegrator;
 
 class ViscBridgeImplicitSolver : public GlobalEngine {
 	std::vector<Vector3r> lastViscousForce, lastViscousTorque; // per body id, for the warm start
@@ -19,7 +22,20 @@ class ViscBridgeImplicitSolver : public GlobalEngine {
 	int                   lastValidMaxIterations = 500, lastValidRefresh = 8;
 	std::string           lastValidPreconditioner = "cholesky";
 	int                   viscDissipNormalIx = -1, viscDissipTangentialIx = -1, viscDissipRotationalIx = -1;
-	void bookPendingWork();
+
+	// The steps of action(), in order.
+	struct Gathered; // the bridges the law described this step and the bodies they touch
+	const NewtonIntegrator&       checkScene();
+	void                          bookPendingWork();
+	Gathered                      gather(const NewtonIntegrator& newton);
+	viscbridge::SystemBody        systemBody(const Body& b, bool owned, const Vector3r& gravity) const;
+	std::vector<int>              touched; // workspace of gather(): per body id, its index in the system (−1: none)
+	Eigen::VectorXd               warmStartGuess(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids) const;
+	const viscbridge::Preconditioner* refreshPreconditioner(const viscbridge::ImplicitViscousSystem& sys, const std::vector<long>& pattern);
+	void solve(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, Eigen::VectorXd& x, const viscbridge::Preconditioner* pre);
+	void applyForces(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+	                 const std::vector<viscbridge::BridgeResistance>& R);
+	void bookEnergy(const viscbridge::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x, const std::vector<viscbridge::BridgeResistance>& R);
 
 public:
 	void action() override;
@@ -60,15 +76,20 @@ public:
 		((long,factorisations,0,Attr::readonly,"Cholesky factorisations done (preconditioner refreshes)."))
 		((int,iterations,0,Attr::readonly,"CG iterations of the last solve."))
 		((Real,residual,0,Attr::readonly,"Relative residual of the last solve."))
-		((long,totalIterations,0,Attr::readonly,"CG iterations of all solves."))
+		((long,totalIterations,0,Attr::readonly,"CG iterations of all solves (totalIterations/solves: iterations per step)."))
+		((long,products,0,Attr::readonly,"Matrix-free products $(M+\\Delta t D)x$ of all solves (one per iteration, one per solve for the start)."))
 		((long,solves,0,Attr::readonly,"Number of solves (steps with at least one bridge)."))
 		((long,fallbacks,0,Attr::readonly,"Solves that needed the direct (sparse Cholesky) fallback."))
 		((int,unknowns,0,Attr::readonly,"Free velocity components in the last solve."))
 		((int,bridges,0,Attr::readonly,"Bridges in the last solve."))
-		((Real,timeGather,0,Attr::readonly|Attr::noSave,"Wall time spent collecting bodies and bridges, all solves [s]."))
-		((Real,timeFactorise,0,Attr::readonly|Attr::noSave,"Wall time spent assembling and factorising the preconditioner [s]."))
-		((Real,timeSolve,0,Attr::readonly|Attr::noSave,"Wall time spent in conjugate gradients (and fallbacks) [s]."))
-		((Real,timeApply,0,Attr::readonly|Attr::noSave,"Wall time spent applying the forces and accounting the work [s]."))
+		((long,factorBlocks,0,Attr::readonly,"6×6 blocks below the diagonal of the last factorisation (fill included)."))
+		((Real,timeGather,0,Attr::readonly|Attr::noSave,"Wall time of the step 'gather': collecting bodies and bridges, building the system and the start vector, all solves [s]."))
+		((Real,timeFactorise,0,Attr::readonly|Attr::noSave,"Wall time of the step 'refresh': assembling and factorising the preconditioner [s]."))
+		((Real,timeSolve,0,Attr::readonly|Attr::noSave,"Wall time of the step 'solve': conjugate gradients (and fallbacks), of which timeProducts and timePreconditioner [s]."))
+		((Real,timeProducts,0,Attr::readonly|Attr::noSave,"Wall time of the matrix-free products inside 'solve' [s]."))
+		((Real,timePreconditioner,0,Attr::readonly|Attr::noSave,"Wall time of the preconditioner applications inside 'solve' [s]."))
+		((Real,timeApply,0,Attr::readonly|Attr::noSave,"Wall time of the step 'apply': the forces and torques that land Newton on the solution [s]."))
+		((Real,timeEnergy,0,Attr::readonly|Attr::noSave,"Wall time of the step 'book energy': each bridge's reported forces and the viscous work [s]."))
 		// Work of the last solve's forces, booked at the next step, when NewtonIntegrator reports the
 		// kinetic energy of the velocities they produced (the same alignment as the explicit law).
 		// Saved with the scene, so that a run continued after O.save/O.load books the same energy.

@@ -4,10 +4,12 @@
 // matrix-free by preconditioned conjugate gradients.  YADE-free.
 //
 // Preconditioners: 6×6 block Jacobi (cheap, but with Δt C/m up to 1e6 at high viscosity CG needs
-// hundreds of iterations), or a sparse Cholesky factorisation of the assembled matrix that is kept
-// over several steps: contacts below S_min have constant coefficients, so a lagged factorisation
-// is nearly exact and CG converges in a few iterations.
+// hundreds of iterations), or a block sparse Cholesky factorisation (BlockCholesky.hpp) of the
+// assembled matrix that is kept over several steps: contacts below S_min have constant
+// coefficients, so a lagged factorisation is nearly exact and CG converges in a few iterations.
 #pragma once
+#include "BlockCholesky.hpp"
+#include "BridgeDampingMatrix.hpp"
 #include "PairKernel.hpp"
 #include "ViscousBlock.hpp"
 #include "Vector.hpp"
@@ -15,15 +17,16 @@
 #include <Eigen/Core>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
+#include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
+#include <numeric>
 #include <vector>
 
 namespace viscbridge {
 
-using Mat3  = Eigen::Matrix<double, 3, 3>;
-using Mat6  = Eigen::Matrix<double, 6, 6>;
-using VecXd = Eigen::VectorXd;
+using Mat3 = Eigen::Matrix<double, 3, 3>;
 
 // A body of the system: 6 velocity unknowns (v, ω), each free or prescribed.
 struct SystemBody {
@@ -44,6 +47,19 @@ struct SolveReport {
 	double residual   = 0; // ‖r‖/‖b‖ of the free rows
 	bool   converged  = false;
 	bool   direct     = false; // the sparse Cholesky fallback was used
+	int    products   = 0;     // matrix-free products (M + Δt D) x
+	double productSeconds = 0, preconditionerSeconds = 0; // wall time of the products and of the preconditioner
+};
+
+// Adds the wall time of its scope to a counter.
+class ScopeTimer {
+public:
+	explicit ScopeTimer(double& total) : total_(total), start_(std::chrono::steady_clock::now()) { }
+	~ScopeTimer() { total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+
+private:
+	double&                               total_;
+	std::chrono::steady_clock::time_point start_;
 };
 
 class ImplicitViscousSystem;
@@ -54,6 +70,44 @@ public:
 	virtual ~Preconditioner()                                  = default;
 	virtual void apply(const VecXd& r, VecXd& z) const = 0;
 };
+
+// Sums over the processes that share a system (MPI), and keeps the ghost rows of a search
+// direction equal to their owners'; serially, nothing to do.
+struct SerialReduction {
+	double sum(double v) const { return v; }
+	void   sum(double&, double&) const { }
+	void   share(VecXd&) const { }
+};
+
+// Preconditioned conjugate gradients: x from its start value, with r = b − A x on entry; stops at
+// ‖r‖/bnorm ≤ tolerance (or a non-finite residual) or after maxIterations (rep says which).
+template <class Product, class Precondition, class Reduction>
+void conjugateGradients(VecXd& x, VecXd& r, double bnorm, double tolerance, int maxIterations, const Product& product, const Precondition& precondition,
+                        const Reduction& reduction, SolveReport& rep)
+{
+	VecXd z, p, Ap;
+	precondition(r, z);
+	p = z;
+	reduction.share(p);
+	double rz = r.dot(z), rr = r.squaredNorm();
+	reduction.sum(rz, rr);
+	for (rep.iterations = 0; rep.iterations < maxIterations; ++rep.iterations) {
+		rep.residual = std::sqrt(rr) / bnorm;
+		if (rep.residual <= tolerance || !std::isfinite(rep.residual)) break;
+		product(p, Ap);
+		const double alpha = rz / reduction.sum(p.dot(Ap));
+		x.noalias() += alpha * p;
+		r.noalias() -= alpha * Ap;
+		precondition(r, z);
+		const double rzOld = rz;
+		rz                 = r.dot(z);
+		rr                 = r.squaredNorm();
+		reduction.sum(rz, rr);
+		p = z + (rz / rzOld) * p;
+		reduction.share(p);
+	}
+	rep.residual = std::sqrt(rr) / bnorm;
+}
 
 class ImplicitViscousSystem {
 public:
@@ -72,9 +126,11 @@ public:
 			start_[i + 1] += start_[i];
 		adjacent_.resize(start_.back());
 		std::vector<int> fill(start_.begin(), start_.end() - 1);
+		anchored_.resize(bridges_.size());
 		for (size_t k = 0; k < bridges_.size(); ++k) {
 			adjacent_[fill[bridges_[k].body1]++] = static_cast<int>(k);
 			adjacent_[fill[bridges_[k].body2]++] = static_cast<int>(k);
+			anchored_[k]                         = isAnchored(bridges_[k].block);
 		}
 	}
 
@@ -91,23 +147,35 @@ public:
 	}
 
 	// y = M x + Δt D x, with the periodic shift velocity when `affine` (a full solution vector).
+	// Each bridge is evaluated once; each body then gathers its own bridges' rows (no write conflicts).
 	void apply(const VecXd& x, VecXd& y, bool affine) const
 	{
 		y.resize(size());
-		const long n = static_cast<long>(bodies_.size());
-#pragma omp parallel for schedule(static)
-		for (long i = 0; i < n; ++i) {
-			const SystemBody& b = bodies_[i];
-			Vec6              r;
-			r << b.mass * x.segment<3>(6 * i), b.inertia * x.segment<3>(6 * i + 3);
-			for (int k = start_[i]; k < start_[i + 1]; ++k) {
-				const SystemBridge&    c = bridges_[adjacent_[k]];
-				const BridgeResistance R = bridgeResistance(c.block, x.segment<3>(6 * c.body1), x.segment<3>(6 * c.body1 + 3), x.segment<3>(6 * c.body2),
-				                                            x.segment<3>(6 * c.body2 + 3), affine ? c.shiftVel : Vec3::Zero());
-				if (c.body1 == i) r += dt_ * (Vec6() << R.force1, R.torque1).finished();
-				if (c.body2 == i) r += dt_ * (Vec6() << R.force2, R.torque2).finished();
+		resistance_.resize(bridges_.size());
+		const long m = static_cast<long>(bridges_.size()), n = static_cast<long>(bodies_.size());
+#pragma omp parallel
+		{
+#pragma omp for schedule(static)
+			for (long k = 0; k < m; ++k) {
+				const SystemBridge& c     = bridges_[k];
+				const Vec3          shift = affine ? c.shiftVel : Vec3::Zero();
+				const Vec3 v1 = x.segment<3>(6 * c.body1), w1 = x.segment<3>(6 * c.body1 + 3), v2 = x.segment<3>(6 * c.body2), w2 = x.segment<3>(6 * c.body2 + 3);
+				resistance_[k] = anchored_[k] ? bridgeResistance<true>(c.block, v1, w1, v2, w2, shift) : bridgeResistance<false>(c.block, v1, w1, v2, w2, shift);
 			}
-			y.segment<6>(6 * i) = r;
+#pragma omp for schedule(static)
+			for (long i = 0; i < n; ++i) {
+				const SystemBody& b = bodies_[i];
+				Vec3              f = Vec3::Zero(), t = Vec3::Zero();
+				for (int k = start_[i]; k < start_[i + 1]; ++k) {
+					const int               e = adjacent_[k];
+					const BridgeResistance& R = resistance_[e];
+					const bool              first = bridges_[e].body1 == i;
+					f += first ? R.force1 : R.force2;
+					t += first ? R.torque1 : R.torque2;
+				}
+				y.segment<3>(6 * i)     = b.mass * x.segment<3>(6 * i) + dt_ * f;
+				y.segment<3>(6 * i + 3) = b.inertia * x.segment<3>(6 * i + 3) + dt_ * t;
+			}
 		}
 	}
 
@@ -121,71 +189,86 @@ public:
 		return b;
 	}
 
+	// The system on the free unknowns x_f:  A_ff x_f = b_f − (Δt D (prescribed + shift))_f.  `others`
+	// marks unknowns that are neither free nor prescribed here (1: under MPI, the ghosts' rows,
+	// solved by their owners).
+	struct FreeProblem {
+		VecXd mask, prescribed, rhs;
+	};
+	FreeProblem freeProblem(const VecXd& others) const
+	{
+		const size_t n       = size();
+		const VecXd  current = currentVelocities();
+		FreeProblem  f { VecXd::Zero(n), VecXd::Zero(n), VecXd() };
+		for (size_t d = 0; d < n; ++d) {
+			if (isFree(d)) f.mask[d] = 1;
+			else if (others[d] == 0) f.prescribed[d] = current[d];
+		}
+		VecXd tmp;
+		apply(f.prescribed, tmp, true); // M·prescribed vanishes on the free rows; Δt D(prescribed + shift) stays
+		f.rhs = (rightHandSide() - tmp).cwiseProduct(f.mask);
+		return f;
+	}
+
+	// A_ff v (rows outside `mask` zero), timed and counted in rep.
+	auto maskedProduct(const VecXd& mask, SolveReport& rep) const
+	{
+		return [this, &mask, &rep](const VecXd& v, VecXd& Av) {
+			const ScopeTimer timer(rep.productSeconds);
+			apply(v, Av, false);
+			Av.array() *= mask.array();
+			++rep.products;
+		};
+	}
+
+	// z = P⁻¹ r on the rows of `mask`: the given preconditioner, else 6×6 block Jacobi.
+	auto preconditioning(const Preconditioner* pre, const VecXd& mask, SolveReport& rep) const
+	{
+		std::vector<Eigen::LDLT<Mat6>> jacobi;
+		if (!pre) jacobi = blockJacobi();
+		return [this, pre, &mask, &rep, jacobi = std::move(jacobi)](const VecXd& r, VecXd& z) {
+			const ScopeTimer timer(rep.preconditionerSeconds);
+			if (pre) {
+				pre->apply(r, z);
+			} else {
+				z.resize(r.size());
+				for (size_t i = 0; i < bodies_.size(); ++i)
+					z.segment<6>(6 * i) = jacobi[i].solve(r.segment<6>(6 * i));
+			}
+			z.array() *= mask.array();
+		};
+	}
+
 	// Solves for v_{n+1/2}; x holds the starting guess (prescribed entries are taken from the bodies)
 	// and receives the solution.  Falls back to a sparse Cholesky factorisation when CG does not
 	// reach `tolerance` within maxIterations (the report says so).
 	SolveReport solve(VecXd& x, double tolerance, int maxIterations, const Preconditioner* pre = nullptr) const
 	{
-		const size_t n = size();
-		const VecXd  current = currentVelocities();
-		VecXd        prescribed = VecXd::Zero(n), mask = VecXd::Zero(n);
-		for (size_t d = 0; d < n; ++d) {
-			if (isFree(d)) mask[d] = 1;
-			else prescribed[d] = current[d];
-		}
-		// Free unknowns only: x_f, with  A_ff x_f = b_f − (Δt D (prescribed + shift))_f.
-		VecXd rhs, tmp;
-		apply(prescribed, tmp, true); // M·prescribed vanishes on the free rows; Δt D(prescribed + shift) stays
-		rhs = (rightHandSide() - tmp).cwiseProduct(mask);
-		VecXd xf = x.cwiseProduct(mask);
-		const double bnorm = rhs.norm();
-		SolveReport  rep;
+		const FreeProblem f  = freeProblem(VecXd::Zero(size()));
+		VecXd             xf = x.cwiseProduct(f.mask);
+		SolveReport       rep;
+		const double      bnorm = f.rhs.norm();
 		if (bnorm == 0) {
-			x = prescribed;
+			x             = f.prescribed;
 			rep.converged = true;
 			return rep;
 		}
-		std::vector<Eigen::LDLT<Mat6>> jacobi;
-		if (!pre) jacobi = blockJacobi();
-		auto precondition = [&](const VecXd& r, VecXd& z) {
-			if (pre) {
-				pre->apply(r, z);
-			} else {
-				z.resize(n);
-				for (size_t i = 0; i < bodies_.size(); ++i)
-					z.segment<6>(6 * i) = jacobi[i].solve(r.segment<6>(6 * i));
-			}
-			z = z.cwiseProduct(mask);
-		};
-		VecXd r, z, p, Ap;
-		apply(xf, Ap, false);
-		r = rhs - Ap.cwiseProduct(mask);
-		precondition(r, z);
-		p         = z;
-		double rz = r.dot(z);
-		for (rep.iterations = 0; rep.iterations < maxIterations; ++rep.iterations) {
-			rep.residual = r.norm() / bnorm;
-			if (rep.residual <= tolerance) break;
-			apply(p, Ap, false);
-			Ap            = Ap.cwiseProduct(mask);
-			const double alpha = rz / p.dot(Ap);
-			xf += alpha * p;
-			r -= alpha * Ap;
-			precondition(r, z);
-			const double rzNew = r.dot(z);
-			p                  = z + (rzNew / rz) * p;
-			rz                 = rzNew;
-		}
-		rep.residual  = r.norm() / bnorm;
+		const auto product      = maskedProduct(f.mask, rep);
+		const auto precondition = preconditioning(pre, f.mask, rep);
+		VecXd      r;
+		product(xf, r);
+		r = f.rhs - r;
+		conjugateGradients(xf, r, bnorm, tolerance, maxIterations, product, precondition, SerialReduction(), rep);
 		rep.converged = rep.residual <= tolerance;
 		if (!rep.converged) {
 			rep.direct = true;
-			xf         = directSolve(rhs);
-			apply(xf, Ap, false);
-			rep.residual  = (rhs - Ap.cwiseProduct(mask)).norm() / bnorm;
+			xf         = directSolve(f.rhs);
+			VecXd Ax;
+			product(xf, Ax);
+			rep.residual  = (f.rhs - Ax).norm() / bnorm;
 			rep.converged = std::isfinite(rep.residual) && rep.residual <= std::max(tolerance, 1e-10);
 		}
-		x = xf + prescribed;
+		x = xf + f.prescribed;
 		return rep;
 	}
 
@@ -205,79 +288,110 @@ public:
 	std::vector<Eigen::LDLT<Mat6>> blockJacobi() const
 	{
 		std::vector<Mat6> blocks(bodies_.size());
-		for (size_t i = 0; i < bodies_.size(); ++i) {
-			blocks[i].setZero();
-			blocks[i].topLeftCorner<3, 3>().diagonal().setConstant(bodies_[i].mass);
-			blocks[i].bottomRightCorner<3, 3>().diagonal().setConstant(bodies_[i].inertia);
-		}
+		for (size_t i = 0; i < bodies_.size(); ++i)
+			blocks[i] = massBlock(i);
 		for (const auto& c : bridges_) {
-			const ViscousBlock& b = c.block;
-			const Mat3          nn = b.n * b.n.transpose(), P = Mat3::Identity() - nn;
-			Mat3                N;
-			N << 0, -b.n[2], b.n[1], b.n[2], 0, -b.n[0], -b.n[1], b.n[0], 0;
-			const auto& m = b.resistance;
-			for (int side = 0; side < 2; ++side) {
-				const int    i     = side == 0 ? c.body1 : c.body2;
-				const double sigma = side == 0 ? 1.0 : -1.0, a = side == 0 ? b.a1 : b.a2;
-				Mat6         K;
-				K.topLeftCorner<3, 3>()     = b.cn * nn + m.m11 * P;
-				K.topRightCorner<3, 3>()    = -sigma * a * m.m12 * N;
-				K.bottomLeftCorner<3, 3>()  = sigma * a * m.m21 * N;
-				K.bottomRightCorner<3, 3>() = a * a * m.m22 * P;
-				blocks[i] += dt_ * K;
-			}
+			const BridgeDampingMatrix D = bridgeDampingMatrix(c.block);
+			blocks[c.body1] += dt_ * D.block[0][0];
+			blocks[c.body2] += dt_ * D.block[1][1];
 		}
 		std::vector<Eigen::LDLT<Mat6>> out(bodies_.size());
-		for (size_t i = 0; i < bodies_.size(); ++i) {
-			for (int d = 0; d < 6; ++d)
-				if (!bodies_[i].free[d]) {
-					blocks[i].row(d).setZero();
-					blocks[i].col(d).setZero();
-					blocks[i](d, d) = 1;
-				}
-			out[i].compute(blocks[i]);
-		}
+		for (size_t i = 0; i < bodies_.size(); ++i)
+			out[i].compute(masked(blocks[i], i, i));
 		return out;
 	}
 
-	// M + Δt D on the free rows and columns, identity on the prescribed ones.  Each bridge's 12×12
-	// block is read off its map with unit velocities.
-	Eigen::SparseMatrix<double> assemble() const
+	// M + Δt D as 6×6 blocks over the bodies with a free component (rowOfBody: their block rows, −1
+	// for the others), prescribed rows and columns replaced by the identity's; pairs sorted, so that
+	// the same bridges give the same matrix whatever their order.
+	BlockMatrix6 blockMatrix(std::vector<int>& rowOfBody) const
 	{
-		const long n = static_cast<long>(size());
-		VecXd      mask(n);
-		for (long d = 0; d < n; ++d)
-			mask[d] = isFree(d) ? 1 : 0;
-		std::vector<Eigen::Triplet<double>> t;
-		for (long d = 0; d < n; ++d)
-			t.emplace_back(d, d, mask[d] != 0 ? (d % 6 < 3 ? bodies_[d / 6].mass : bodies_[d / 6].inertia) : 1.0);
+		rowOfBody.assign(bodies_.size(), -1);
+		int rows = 0;
+		for (size_t i = 0; i < bodies_.size(); ++i)
+			if (std::any_of(bodies_[i].free.begin(), bodies_[i].free.end(), [](bool f) { return f; })) rowOfBody[i] = rows++;
+		BlockMatrix6 A;
+		A.diagonal.resize(rows);
+		for (size_t i = 0; i < bodies_.size(); ++i)
+			if (rowOfBody[i] >= 0) A.diagonal[rowOfBody[i]] = massBlock(i);
+		std::vector<std::pair<int, int>> pairs;
+		std::vector<Mat6>                upper;
 		for (const auto& c : bridges_) {
-			const int owners[2] = { c.body1, c.body2 };
-			for (int j = 0; j < 12; ++j) {
-				const long col = 6L * owners[j / 6] + j % 6;
-				if (mask[col] == 0) continue;
-				Vec6 e1 = Vec6::Zero(), e2 = Vec6::Zero();
-				(j < 6 ? e1 : e2)[j % 6] = 1;
-				const BridgeResistance R = bridgeResistance(c.block, e1.head<3>(), e1.tail<3>(), e2.head<3>(), e2.tail<3>(), Vec3::Zero());
-				const Vec6 rows[2] = { (Vec6() << R.force1, R.torque1).finished(), (Vec6() << R.force2, R.torque2).finished() };
-				// zeros are kept: the pattern depends only on which bodies share bridges, so that a
-				// factorisation's symbolic analysis can be reused
-				for (int side = 0; side < 2; ++side)
-					for (int k = 0; k < 6; ++k) {
-						const long row = 6L * owners[side] + k;
-						if (mask[row] != 0) t.emplace_back(row, col, dt_ * rows[side][k]);
-					}
+			const int i = rowOfBody[c.body1], j = rowOfBody[c.body2];
+			if (i < 0 && j < 0) continue;
+			const BridgeDampingMatrix D = bridgeDampingMatrix(c.block);
+			if (i >= 0) A.diagonal[i] += dt_ * D.block[0][0];
+			if (j >= 0) A.diagonal[j] += dt_ * D.block[1][1];
+			if (i < 0 || j < 0) continue;
+			pairs.emplace_back(std::min(i, j), std::max(i, j));
+			upper.push_back(dt_ * (i < j ? masked(D.block[0][1], c.body1, c.body2) : masked(D.block[1][0], c.body2, c.body1)));
+		}
+		for (size_t i = 0; i < bodies_.size(); ++i)
+			if (rowOfBody[i] >= 0) A.diagonal[rowOfBody[i]] = masked(A.diagonal[rowOfBody[i]], i, i);
+		std::vector<int> sorted(pairs.size());
+		std::iota(sorted.begin(), sorted.end(), 0);
+		std::sort(sorted.begin(), sorted.end(), [&](int a, int b) { return pairs[a] < pairs[b]; });
+		for (const int p : sorted) {
+			if (!A.pairs.empty() && A.pairs.back() == pairs[p]) A.upper.back() += upper[p]; // two bridges between the same bodies
+			else {
+				A.pairs.push_back(pairs[p]);
+				A.upper.push_back(upper[p]);
 			}
 		}
-		Eigen::SparseMatrix<double> A(n, n);
-		A.setFromTriplets(t.begin(), t.end()); // duplicates (shared bodies) are summed
 		return A;
+	}
+
+	// M + Δt D on the free rows and columns, identity on the prescribed ones, as one scalar sparse
+	// matrix (for the direct fallback).
+	Eigen::SparseMatrix<double> assemble() const
+	{
+		std::vector<int>                    rowOfBody;
+		const BlockMatrix6                  A = blockMatrix(rowOfBody);
+		std::vector<Eigen::Triplet<double>> t;
+		auto add = [&](int bi, int bj, const Mat6& B) {
+			for (int k = 0; k < 6; ++k)
+				for (int l = 0; l < 6; ++l)
+					if (B(k, l) != 0 || (bi == bj && k == l)) t.emplace_back(6 * bi + k, 6 * bj + l, B(k, l));
+		};
+		for (size_t i = 0; i < bodies_.size(); ++i) {
+			if (rowOfBody[i] >= 0) add(static_cast<int>(i), static_cast<int>(i), A.diagonal[rowOfBody[i]]);
+			else add(static_cast<int>(i), static_cast<int>(i), Mat6::Identity());
+		}
+		std::vector<int> bodyOfRow(A.size());
+		for (size_t i = 0; i < bodies_.size(); ++i)
+			if (rowOfBody[i] >= 0) bodyOfRow[rowOfBody[i]] = static_cast<int>(i);
+		for (size_t p = 0; p < A.pairs.size(); ++p) {
+			add(bodyOfRow[A.pairs[p].first], bodyOfRow[A.pairs[p].second], A.upper[p]);
+			add(bodyOfRow[A.pairs[p].second], bodyOfRow[A.pairs[p].first], A.upper[p].transpose());
+		}
+		Eigen::SparseMatrix<double> S(size(), size());
+		S.setFromTriplets(t.begin(), t.end());
+		return S;
 	}
 
 	const std::vector<SystemBody>&   bodies() const { return bodies_; }
 	const std::vector<SystemBridge>& bridges() const { return bridges_; }
 
 private:
+	Mat6 massBlock(size_t i) const
+	{
+		Mat6 m = Mat6::Zero();
+		m.diagonal() << Vec3::Constant(bodies_[i].mass), Vec3::Constant(bodies_[i].inertia);
+		return m;
+	}
+
+	// B with the rows of body i's and the columns of body j's prescribed components zeroed, and on a
+	// diagonal block (i == j) a unit diagonal there.
+	Mat6 masked(Mat6 B, size_t i, size_t j) const
+	{
+		for (int d = 0; d < 6; ++d) {
+			if (!bodies_[i].free[d]) B.row(d).setZero();
+			if (!bodies_[j].free[d]) B.col(d).setZero();
+			if (i == j && !bodies_[i].free[d]) B(d, d) = 1;
+		}
+		return B;
+	}
+
 	// The loud fallback: the assembled system, factorised.
 	VecXd directSolve(const VecXd& rhs) const
 	{
@@ -290,31 +404,43 @@ private:
 	std::vector<SystemBridge> bridges_;
 	double                    dt_;
 	std::vector<int>          start_, adjacent_;
+	std::vector<char>                     anchored_;   // per bridge: a wall side's anchor terms are needed
+	mutable std::vector<BridgeResistance> resistance_; // workspace of apply()
 };
 
-// A sparse LDLᵀ factorisation of an earlier step's matrix, reused while the system keeps the same
+// A block Cholesky factorisation of an earlier step's matrix, reused while the system keeps the same
 // unknowns and bridges (the caller decides when to refresh it).
 class LaggedCholesky : public Preconditioner {
 public:
 	// Factorises the system's matrix (the symbolic analysis is redone only when the pattern changed).
 	bool refresh(const ImplicitViscousSystem& system, bool samePattern)
 	{
-		const Eigen::SparseMatrix<double> A = system.assemble();
-		if (!samePattern || !analysed_) {
-			ldlt_.analyzePattern(A);
-			analysed_ = true;
+		std::vector<int>   rowOfBody;
+		const BlockMatrix6 A = system.blockMatrix(rowOfBody);
+		if (!samePattern || !factor_.factorised() || factor_.size() != A.size()) factor_.analyse(A.size(), A.pairs);
+		size_ = system.size();
+		bodyOfRow_.assign(A.size(), 0);
+		prescribedBodies_.clear();
+		for (size_t i = 0; i < rowOfBody.size(); ++i) {
+			if (rowOfBody[i] >= 0) bodyOfRow_[rowOfBody[i]] = static_cast<int>(i);
+			else prescribedBodies_.push_back(static_cast<int>(i));
 		}
-		ldlt_.factorize(A);
-		size_ = A.rows();
-		return ldlt_.info() == Eigen::Success;
+		return factor_.factorise(A);
 	}
-	bool matches(size_t size) const { return analysed_ && static_cast<size_t>(size_) == size && ldlt_.info() == Eigen::Success; }
-	void apply(const VecXd& r, VecXd& z) const override { z = ldlt_.solve(r); }
+	bool matches(size_t size) const { return factor_.factorised() && size_ == size; }
+	void apply(const VecXd& r, VecXd& z) const override
+	{
+		if (z.size() != r.size()) z.setZero(r.size());
+		for (const int i : prescribedBodies_)
+			z.segment<6>(6 * i).setZero();
+		factor_.solve(r, z, bodyOfRow_);
+	}
+	const BlockCholesky& factor() const { return factor_; }
 
 private:
-	Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
-	bool                                               analysed_ = false;
-	long                                               size_     = -1;
+	BlockCholesky    factor_;
+	std::vector<int> bodyOfRow_, prescribedBodies_; // the system's body of each block row; bodies without a free component
+	size_t           size_ = 0;
 };
 
 } // namespace viscbridge

@@ -1,0 +1,268 @@
+// The implicit solver's linear algebra without YADE (physics.md §4, P15): one bridge's damping
+// matrix against its resistance map, the block Cholesky factorisation against a dense one, and the
+// assembled system against its matrix-free product and its solution.
+#include "test_support.hpp"
+#include "viscbridge/physics/BlockCholesky.hpp"
+#include "viscbridge/physics/BridgeDampingMatrix.hpp"
+#include "viscbridge/physics/ImplicitViscousSystem.hpp"
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+#include <random>
+
+using namespace viscbridge;
+using namespace vbtest;
+
+namespace {
+using Mat12 = Eigen::Matrix<double, 12, 12>;
+
+// A bridge with stiff normal damping and a symmetric positive definite tangential resistance, as
+// the dissipative models give (Cⁿ/C_T ≈ 200 at S_min).
+ViscousBlock randomBridge(std::mt19937& g, bool wallOnSide1 = false)
+{
+	ViscousBlock b;
+	b.valid  = true;
+	b.n      = randomUnit(g);
+	b.cn     = 200 * uniform(g, 0.5, 2);
+	const double m11 = uniform(g, 0.5, 2), m22 = uniform(g, 0.5, 2), m12 = uniform(g, -0.5, 0.5);
+	b.resistance = { m11, m12, m12, m22 };
+	b.a1     = wallOnSide1 ? 0 : uniform(g, 0.5, 1.5);
+	b.a2     = uniform(g, 0.5, 1.5);
+	if (wallOnSide1) b.r1 = randomVec(g, 2.0);
+	return b;
+}
+
+// The 12×12 matrix of the resistance map, column by column from unit velocities.
+Mat12 byUnitVelocities(const ViscousBlock& b)
+{
+	Mat12 D;
+	for (int j = 0; j < 12; ++j) {
+		Eigen::Matrix<double, 12, 1> q = Eigen::Matrix<double, 12, 1>::Zero();
+		q[j]                           = 1;
+		const BridgeResistance R       = bridgeResistance(b, q.segment<3>(0), q.segment<3>(3), q.segment<3>(6), q.segment<3>(9), Vec3::Zero());
+		D.col(j) << R.force1, R.torque1, R.force2, R.torque2;
+	}
+	return D;
+}
+
+Mat12 assembled(const BridgeDampingMatrix& D)
+{
+	Mat12 m;
+	m << D.block[0][0], D.block[0][1], D.block[1][0], D.block[1][1];
+	return m;
+}
+
+// A random symmetric positive definite block matrix over n bodies coupled along a random graph.
+BlockMatrix6 randomBlockMatrix(std::mt19937& g, int n, int couplings)
+{
+	BlockMatrix6 A;
+	A.diagonal.assign(n, Mat6::Zero());
+	for (int c = 0; c < couplings; ++c) {
+		int i = static_cast<int>(uniform(g, 0, n)), j = static_cast<int>(uniform(g, 0, n));
+		if (i == j || std::find(A.pairs.begin(), A.pairs.end(), std::make_pair(std::min(i, j), std::max(i, j))) != A.pairs.end()) continue;
+		// a 12×12 positive semi-definite coupling GᵀG spread over the two bodies
+		const Eigen::Matrix<double, 12, 12> G = Eigen::Matrix<double, 12, 12>::Random(), K = G.transpose() * G;
+		const auto [lo, hi] = std::minmax(i, j);
+		A.diagonal[lo] += K.topLeftCorner<6, 6>();
+		A.diagonal[hi] += K.bottomRightCorner<6, 6>();
+		A.pairs.emplace_back(lo, hi);
+		A.upper.push_back(K.topRightCorner<6, 6>());
+	}
+	for (auto& d : A.diagonal)
+		d += 0.1 * Mat6::Identity(); // the mass: positive definite
+	return A;
+}
+
+Eigen::MatrixXd dense(const BlockMatrix6& A)
+{
+	Eigen::MatrixXd M = Eigen::MatrixXd::Zero(6 * A.size(), 6 * A.size());
+	for (int i = 0; i < A.size(); ++i)
+		M.block<6, 6>(6 * i, 6 * i) = A.diagonal[i];
+	for (size_t p = 0; p < A.pairs.size(); ++p) {
+		M.block<6, 6>(6 * A.pairs[p].first, 6 * A.pairs[p].second) = A.upper[p];
+		M.block<6, 6>(6 * A.pairs[p].second, 6 * A.pairs[p].first) = A.upper[p].transpose();
+	}
+	return M;
+}
+} // namespace
+
+// The assembled blocks are the resistance map itself (same forces for any velocities), for two
+// spheres and for a moving wall whose anchor is off its centre.
+TEST(ImplicitLinearAlgebra, BridgeMatrixIsTheResistanceMap)
+{
+	std::mt19937 g(11);
+	for (int trial = 0; trial < 20; ++trial)
+		for (bool wall : { false, true }) {
+			ViscousBlock b = randomBridge(g, wall);
+			b.resistance.m21 += 0.3; // not symmetric: the blocks must still follow the map term by term
+			const Mat12 expected = byUnitVelocities(b), got = assembled(bridgeDampingMatrix(b));
+			EXPECT_LE((got - expected).norm(), 1e-13 * expected.norm()) << "wall " << wall;
+			EXPECT_EQ(isAnchored(b), wall);
+			if (wall) continue;
+			// two spheres: the map without the anchor terms is the same map
+			const Vec3 v1 = randomVec(g, 1), w1 = randomVec(g, 1), v2 = randomVec(g, 1), w2 = randomVec(g, 1), shift = randomVec(g, 0.1);
+			const BridgeResistance full = bridgeResistance<true>(b, v1, w1, v2, w2, shift), lean = bridgeResistance<false>(b, v1, w1, v2, w2, shift);
+			EXPECT_LE((full.force1 - lean.force1).norm() + (full.torque1 - lean.torque1).norm() + (full.torque2 - lean.torque2).norm(), 1e-13 * full.force1.norm());
+		}
+}
+
+// A dissipative bridge's matrix is symmetric positive semi-definite, with the rigid translation in
+// its null space (no force without relative motion).
+TEST(ImplicitLinearAlgebra, DissipativeBridgeMatrixIsSymmetricSemiDefinite)
+{
+	std::mt19937 g(12);
+	for (int trial = 0; trial < 20; ++trial) {
+		const Mat12 D = assembled(bridgeDampingMatrix(randomBridge(g)));
+		EXPECT_LE((D - D.transpose()).norm(), 1e-13 * D.norm());
+		const Eigen::SelfAdjointEigenSolver<Mat12> eig(D);
+		EXPECT_GE(eig.eigenvalues().minCoeff(), -1e-12 * D.norm());
+		Eigen::Matrix<double, 12, 1> translation;
+		translation << randomVec(g, 1.0), Vec3::Zero(), Vec3::Zero(), Vec3::Zero();
+		translation.segment<3>(6) = translation.head<3>();
+		EXPECT_LE((D * translation).norm(), 1e-13 * D.norm());
+	}
+}
+
+// The block factorisation solves the system as exactly as a dense Cholesky does.
+TEST(ImplicitLinearAlgebra, BlockCholeskySolvesLikeADenseFactorisation)
+{
+	std::mt19937 g(13);
+	for (int n : { 1, 2, 7, 40, 120 }) {
+		const BlockMatrix6 A = randomBlockMatrix(g, n, 3 * n);
+		BlockCholesky      chol;
+		chol.analyse(A.size(), A.pairs);
+		ASSERT_TRUE(chol.factorise(A)) << n;
+		const VecXd     b = VecXd::Random(6 * n);
+		VecXd           x, Ax;
+		chol.solve(b, x);
+		A.multiply(x, Ax);
+		EXPECT_LE((Ax - b).norm(), 1e-11 * b.norm()) << n;
+		const VecXd reference = dense(A).llt().solve(b);
+		EXPECT_LE((x - reference).norm(), 1e-9 * reference.norm()) << n;
+	}
+}
+
+// The same pattern with new numbers is refactorised without a new analysis.
+TEST(ImplicitLinearAlgebra, BlockCholeskyRefactorisesTheAnalysedPattern)
+{
+	std::mt19937 g(14);
+	BlockMatrix6  A = randomBlockMatrix(g, 30, 80);
+	BlockCholesky chol;
+	chol.analyse(A.size(), A.pairs);
+	ASSERT_TRUE(chol.factorise(A));
+	for (auto& u : A.upper)
+		u *= 0.5;
+	ASSERT_TRUE(chol.factorise(A));
+	const VecXd b = VecXd::Random(6 * A.size());
+	VecXd       x, Ax;
+	chol.solve(b, x);
+	A.multiply(x, Ax);
+	EXPECT_LE((Ax - b).norm(), 1e-11 * b.norm());
+}
+
+// A chain of bodies has no fill (each eliminated body couples only its two neighbours), and a
+// matrix that is not positive definite is refused instead of factorised.
+TEST(ImplicitLinearAlgebra, BlockCholeskyFillAndRefusal)
+{
+	std::mt19937 g(15);
+	BlockMatrix6  chain;
+	const int     n = 50;
+	chain.diagonal.assign(n, 4 * Mat6::Identity());
+	for (int i = 0; i + 1 < n; ++i) {
+		chain.pairs.emplace_back(i, i + 1);
+		chain.upper.push_back(-Mat6::Identity());
+	}
+	BlockCholesky chol;
+	chol.analyse(n, chain.pairs);
+	ASSERT_TRUE(chol.factorise(chain));
+	EXPECT_EQ(chol.offDiagonalBlocks(), static_cast<size_t>(n - 1));
+	chain.diagonal[n / 2](3, 3) = -1;
+	EXPECT_FALSE(chol.factorise(chain));
+	EXPECT_FALSE(chol.factorised());
+}
+
+namespace {
+// A small network: a cluster of spheres with random bridges, one wall (prescribed), one sphere
+// with its z translation blocked.
+ImplicitViscousSystem randomSystem(std::mt19937& g, int spheres, double dt)
+{
+	std::vector<SystemBody> bodies(spheres + 1);
+	for (int i = 0; i < spheres; ++i) {
+		bodies[i].mass    = uniform(g, 0.5, 2);
+		bodies[i].inertia = 0.1 * bodies[i].mass;
+		bodies[i].vel     = randomVec(g, 1.0);
+		bodies[i].angVel  = randomVec(g, 1.0);
+		bodies[i].force   = randomVec(g, 1.0);
+		bodies[i].torque  = randomVec(g, 0.1);
+		bodies[i].free.fill(true);
+	}
+	bodies[1].free[2]    = false; // a blocked DOF keeps its velocity
+	bodies[spheres].vel  = Vec3(0.3, 0, 0); // the wall, moving
+	std::vector<SystemBridge> bridges;
+	for (int i = 0; i < spheres; ++i)
+		for (int j = i + 1; j < spheres; ++j)
+			if (uniform(g, 0, 1) < 3.0 / spheres) bridges.push_back({ i, j, randomBridge(g), Vec3::Zero() });
+	for (int i = 0; i < spheres; i += 4) {
+		ViscousBlock w = randomBridge(g, true);
+		bridges.push_back({ spheres, i, w, Vec3::Zero() });
+	}
+	return ImplicitViscousSystem(std::move(bodies), std::move(bridges), dt);
+}
+} // namespace
+
+// The assembled block matrix is the matrix-free product on the free rows and columns.
+TEST(ImplicitLinearAlgebra, AssembledMatrixIsTheMatrixFreeProduct)
+{
+	std::mt19937                g(16);
+	const ImplicitViscousSystem sys = randomSystem(g, 24, 0.05);
+	std::vector<int>            rowOfBody;
+	const BlockMatrix6          A = sys.blockMatrix(rowOfBody);
+	VecXd                       x = VecXd::Random(sys.size()), y, xr = VecXd::Zero(6 * A.size()), yr;
+	for (size_t d = 0; d < sys.size(); ++d)
+		if (!sys.isFree(d)) x[d] = 0;
+	sys.apply(x, y, false);
+	for (size_t i = 0; i < rowOfBody.size(); ++i)
+		if (rowOfBody[i] >= 0) xr.segment<6>(6 * rowOfBody[i]) = x.segment<6>(6 * i);
+	A.multiply(xr, yr);
+	for (size_t d = 0; d < sys.size(); ++d) {
+		if (!sys.isFree(d)) continue;
+		EXPECT_NEAR(yr[6 * rowOfBody[d / 6] + d % 6], y[d], 1e-12 * y.norm()) << "unknown " << d;
+	}
+}
+
+// With a fresh factorisation CG converges at once; the solution satisfies (M + Δt D) v = M v₀ + Δt F
+// on the free rows and keeps the prescribed components.
+TEST(ImplicitLinearAlgebra, SolveWithAFreshFactorSatisfiesTheSystem)
+{
+	std::mt19937                g(17);
+	const ImplicitViscousSystem sys = randomSystem(g, 24, 0.05);
+	LaggedCholesky              pre;
+	ASSERT_TRUE(pre.refresh(sys, false));
+	VecXd             x   = sys.currentVelocities();
+	const SolveReport rep = sys.solve(x, 1e-12, 50, &pre);
+	EXPECT_TRUE(rep.converged);
+	EXPECT_FALSE(rep.direct);
+	EXPECT_LE(rep.iterations, 2);
+	VecXd Ax;
+	sys.apply(x, Ax, true);
+	const VecXd b = sys.rightHandSide(), v0 = sys.currentVelocities();
+	for (size_t d = 0; d < sys.size(); ++d) {
+		if (sys.isFree(d)) EXPECT_NEAR(Ax[d], b[d], 1e-9 * b.norm()) << "row " << d;
+		else EXPECT_EQ(x[d], v0[d]) << "prescribed " << d;
+	}
+}
+
+// An aged factor (a different step's matrix) still preconditions: CG converges, in more iterations.
+TEST(ImplicitLinearAlgebra, AnAgedFactorStillConverges)
+{
+	std::mt19937                g(18);
+	const ImplicitViscousSystem older = randomSystem(g, 24, 0.05);
+	std::mt19937                g2(18);
+	ImplicitViscousSystem       newer = randomSystem(g2, 24, 0.08); // same pattern, other numbers
+	LaggedCholesky              pre;
+	ASSERT_TRUE(pre.refresh(older, false));
+	VecXd             x   = newer.currentVelocities();
+	const SolveReport rep = newer.solve(x, 1e-10, 200, &pre);
+	EXPECT_TRUE(rep.converged);
+	EXPECT_FALSE(rep.direct);
+	EXPECT_GT(rep.iterations, 2);
+}
