@@ -42,6 +42,7 @@ PERTURBATION = 0.01
 LIQUID = dict(sMinRel=1e-3, normalModel='adamsPerchard', tangentialModel='slip')
 EXPLICIT_FACTORS = [0.5, 1, 2, 4, 8, 16]           # × the P14 bound (safety 1)
 IMPLICIT_STEPS_PER_SAMPLE = [2, 4, 16, 64, 256, 1024, 4096]  # Δt = T/10/k; k = 2 is 5e-6 s
+TIGHT = 1e-12  # CG tolerance of the twin of each implicit run: what the default tolerance adds
 
 viscosities = [float(a) for a in sys.argv[1:]] or [1.0, 10.0, 100.0, 1000.0]
 bed = scan.settled_bed(os.path.join(common.CACHE, 'narrow-bed-45.yade.gz'), n=45, radius=R, width=6 * R, seed=5)
@@ -68,10 +69,13 @@ def p14_bounds(mu):
     return ts.dtBound, ts.dtCollision
 
 
-def run(mu, integration, k):
-    """Run T at Δt = TAU/k; the samples, the end positions, cost, and why it failed (or None)."""
+def run(mu, integration, k, tolerance=None):
+    """Run T at Δt = TAU/k (the implicit solver at `tolerance`, else at its default); the samples,
+    the end positions, cost, and why it failed (or None)."""
     prepare(mu, integration)
     O.dt = TAU / k
+    if tolerance is not None:
+        next(e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver)).tolerance = tolerance
     dyn = [b.id for b in O.bodies if b.dynamic]
     x0 = {i: O.bodies[i].state.pos for i in dyn}
     z0 = {i: O.bodies[i].state.pos[2] for i in dyn}
@@ -110,13 +114,17 @@ def steps_for(dt):
     return max(1, int(round(TAU / dt)))
 
 
-def row(mu, integration, role, k, r, ref):
+def row(mu, integration, role, k, r, ref, tight=None):
+    """The row of run r against the reference; with `tight` (the same run solved to TIGHT), also the
+    error the solver's default tolerance adds (the same measure, against the tight run)."""
     e_x, e_k = errors(r, ref)
     out = dict(viscosity=mu, integration=integration, role=role, dt=TAU / k, steps=SAMPLES * k, executed_steps=r['steps'],
                seconds=r['seconds'], error_positions=e_x, error_kinetic=e_k, error=max(e_x, e_k),
-               cg_iterations_per_step=r['cg'], stopped=r['why'] or '')
-    print('  %-8s %-9s dt %.3e s  steps %9d  %8.2f s  e_x %.2e  e_K %.2e  %s' % (
-        integration, role, out['dt'], out['steps'], out['seconds'], e_x, e_k, ('unstable: ' + r['why'][:60]) if r['why'] else ''))
+               cg_iterations_per_step=r['cg'], stopped=r['why'] or '',
+               error_from_tolerance=max(errors(r, tight)) if tight else None)
+    print('  %-8s %-9s dt %.3e s  steps %9d  %8.2f s  e_x %.2e  e_K %.2e  %s%s' % (
+        integration, role, out['dt'], out['steps'], out['seconds'], e_x, e_k, ('unstable: ' + r['why'][:60]) if r['why'] else '',
+        ('  from the tolerance %.1e' % out['error_from_tolerance']) if tight else ''))
     sys.stdout.flush()
     return out
 
@@ -154,7 +162,7 @@ for mu in viscosities:
     if unstable is not None:
         rows.append(row(mu, 'explicit', 'critical', stable, ladder[stable], ref))
     for k in IMPLICIT_STEPS_PER_SAMPLE:
-        rows.append(row(mu, 'implicit', 'ladder', k, run(mu, 'implicit', k), ref))
+        rows.append(row(mu, 'implicit', 'ladder', k, run(mu, 'implicit', k), ref, tight=run(mu, 'implicit', k, TIGHT)))
     mine = [r for r in rows if r['viscosity'] == mu]
     floor = next(r['error'] for r in mine if r['integration'] == 'explicit' and r['role'] == 'ladder' and not r['stopped'])
     for scheme in ('explicit', 'implicit'):

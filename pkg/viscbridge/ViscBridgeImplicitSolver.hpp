@@ -18,8 +18,8 @@ class ViscBridgeImplicitSolver : public GlobalEngine {
 	long                                   factorisedIter = -1;
 	int                                    lastIterationsSeen = 0;
 	size_t                                 validatedSignature = 0; // sceneSignature() of the last validated scene
-	Real                  lastValidTolerance = 1e-9;
-	int                   lastValidMaxIterations = 500, lastValidRefresh = 8;
+	Real                  lastValidTolerance = 1e-6;
+	int                   lastValidMaxIterations = 500, lastValidRefresh = 4;
 	std::string           lastValidPreconditioner = "cholesky";
 	int                   viscDissipNormalIx = -1, viscDissipTangentialIx = -1, viscDissipRotationalIx = -1;
 
@@ -58,21 +58,25 @@ public:
 		":yref:`NewtonIntegrator` (:yref:`viscbridge.engines(integration='implicit')` does).\n\n"
 		"The linear system is solved matrix-free by preconditioned conjugate gradients to the relative "
 		"residual `tolerance`, warm-started from the last step's viscous forces; the matrix products run "
-		"in parallel with OpenMP. The default preconditioner is a sparse Cholesky factorisation of the "
-		"system that is kept while the bridges stay the same and refreshed when CG needs more than "
-		"refreshIterations iterations (bridges below $S_{min}$ have constant coefficients, so it stays "
-		"nearly exact); 'jacobi' uses 6×6 blocks per body instead (no factorisation, but hundreds of "
+		"in parallel with OpenMP. The default preconditioner is a Cholesky factorisation of the "
+		"system in 6×6 blocks (one block row per body; a large system is bisected so that two threads "
+		"factorise and apply it side by side) that is kept while the bridges stay the same and "
+		"refreshed when CG needs more than refreshIterations iterations (bridges below $S_{min}$ have "
+		"constant coefficients, so it stays nearly exact; it ages as the bridges' normals turn); 'jacobi' uses 6×6 blocks per body instead (no factorisation, but hundreds of "
 		"iterations when Δt·C/m is large). If CG does not converge within maxIterations, the "
 		"assembled system is factorised and solved directly instead, with a warning and `fallbacks` "
 		"counting it; if that fails too, the run stops with an error.\n\n"
+		"Counters: iterations, totalIterations, products, solves, factorisations (refreshes), fallbacks, "
+		"factorBlocks; and the wall time of each step of the engine (gather, refresh, solve with its "
+		"products and preconditioner, apply, book energy) in timeGather … timeEnergy.\n\n"
 		"Under yade.mpy (docs/cluster.md) it solves one system over all ranks: each rank holds its own bodies' rows, the "
 		"velocities of the neighbours' bodies its bridges touch are exchanged at every CG iteration, and the residual is "
 		"global (same tolerance as serially; preconditioner: each rank's own block, no direct fallback).",
-		((Real,tolerance,1e-9,Attr::triggerPostLoad,"Relative residual ‖r‖/‖b‖ at which CG stops, in (0, 1)."))
+		((Real,tolerance,1e-6,Attr::triggerPostLoad,"Relative residual ‖r‖/‖b‖ at which CG stops, in (0, 1). The default adds an error far below the scheme's own (bench/accuracy_cost.py, docs/performance.md §1); 1e-9 costs about two more iterations per step."))
 		((int,maxIterations,500,Attr::triggerPostLoad,"CG iterations before the direct fallback, >= 1."))
 		((bool,warmStart,true,,"Start CG from the velocities the last step's viscous forces would give (else from the current velocities)."))
 		((string,preconditioner,"cholesky",Attr::triggerPostLoad,"'cholesky' (lagged sparse factorisation) or 'jacobi' (6×6 blocks per body)."))
-		((int,refreshIterations,8,Attr::triggerPostLoad,"With 'cholesky': refactorise when the last solve took more CG iterations than this, >= 1."))
+		((int,refreshIterations,4,Attr::triggerPostLoad,"With 'cholesky': refactorise when the last solve took more CG iterations than this, >= 1 (the factor ages as the bridges' normals turn: docs/performance.md §2)."))
 		((long,factorisations,0,Attr::readonly,"Cholesky factorisations done (preconditioner refreshes)."))
 		((int,iterations,0,Attr::readonly,"CG iterations of the last solve."))
 		((Real,residual,0,Attr::readonly,"Relative residual of the last solve."))

@@ -6,6 +6,8 @@
 #include "viscbridge/physics/BridgeDampingMatrix.hpp"
 #include "viscbridge/physics/ImplicitViscousSystem.hpp"
 #include <Eigen/Dense>
+#include <Eigen/SparseCholesky>
+#include <array>
 #include <gtest/gtest.h>
 #include <random>
 
@@ -139,6 +141,57 @@ TEST(ImplicitLinearAlgebra, BlockCholeskySolvesLikeADenseFactorisation)
 		const VecXd reference = dense(A).llt().solve(b);
 		EXPECT_LE((x - reference).norm(), 1e-9 * reference.norm()) << n;
 	}
+}
+
+// A large system (a 3D lattice of bodies, each coupled to its six neighbours) is bisected into two
+// halves factorised side by side; the solution is still exact, as Eigen's sparse LDLT gives it.
+TEST(ImplicitLinearAlgebra, BisectedFactorisationSolvesExactly)
+{
+	const int    side = 11, layers = 10, n = side * side * layers;
+	BlockMatrix6 A;
+	A.diagonal.assign(n, 0.5 * Mat6::Identity());
+	auto index = [&](int i, int j, int k) { return (k * side + j) * side + i; };
+	std::mt19937 g(19);
+	for (int k = 0; k < layers; ++k)
+		for (int j = 0; j < side; ++j)
+			for (int i = 0; i < side; ++i)
+				for (const auto& [di, dj, dk] : { std::array<int, 3> { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } }) {
+					if (i + di >= side || j + dj >= side || k + dk >= layers) continue;
+					const Eigen::Matrix<double, 6, 6> G = Eigen::Matrix<double, 6, 6>::Random(), K = G.transpose() * G;
+					const int a = index(i, j, k), b = index(i + di, j + dj, k + dk);
+					A.diagonal[a] += K;
+					A.diagonal[b] += K;
+					A.pairs.emplace_back(a, b);
+					A.upper.push_back(-K);
+				}
+	ASSERT_GE(n, BlockCholesky::kSplitBodies);
+	BlockCholesky chol;
+	chol.analyse(n, A.pairs);
+	ASSERT_TRUE(chol.factorise(A));
+	const auto halves = chol.halves();
+	EXPECT_GT(halves[0], n / 3);
+	EXPECT_GT(halves[1], n / 3);
+	const VecXd b = VecXd::Random(6 * n);
+	VecXd       x, Ax;
+	chol.solve(b, x);
+	A.multiply(x, Ax);
+	EXPECT_LE((Ax - b).norm(), 1e-10 * b.norm());
+	std::vector<Eigen::Triplet<double>> t;
+	auto add = [&](int bi, int bj, const Mat6& B) {
+		for (int r = 0; r < 6; ++r)
+			for (int c = 0; c < 6; ++c)
+				t.emplace_back(6 * bi + r, 6 * bj + c, B(r, c));
+	};
+	for (int i = 0; i < n; ++i)
+		add(i, i, A.diagonal[i]);
+	for (size_t p = 0; p < A.pairs.size(); ++p) {
+		add(A.pairs[p].first, A.pairs[p].second, A.upper[p]);
+		add(A.pairs[p].second, A.pairs[p].first, A.upper[p].transpose());
+	}
+	Eigen::SparseMatrix<double> S(6 * n, 6 * n);
+	S.setFromTriplets(t.begin(), t.end());
+	const VecXd reference = Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>(S).solve(b);
+	EXPECT_LE((x - reference).norm(), 1e-8 * reference.norm());
 }
 
 // The same pattern with new numbers is refactorised without a new analysis.

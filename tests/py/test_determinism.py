@@ -1,12 +1,14 @@
 """The same run on 1 and 2 OpenMP threads (separate yade processes).
 
-Explicit: identical to ≤ 1e-12.  Implicit: positions identical to ≤ 1e-12; velocities differ at the
-solver's level — YADE sums contact forces per thread (rounding differences of ~1e-16), and the
-implicit system amplifies them by its condition number (Δt·C/m up to ~1e6), so the bound there is
-the CG tolerance (1e-9) times a safety factor of 100."""
+Explicit: identical to ≤ 1e-12.  Implicit: the runs differ at the solver's level — YADE sums contact
+forces per thread (rounding differences of ~1e-16), the implicit system amplifies them by its
+condition number (Δt·C/m up to ~1e6), and CG may then stop one iteration apart: the velocities agree
+to the CG tolerance (default 1e-6) times a safety factor of 100, the positions (which move by Δt·v
+per step) to 1e-3 of it (measured: 1.2e-7 and 6.4e-11 at the default)."""
 import json
 
 import pytest
+import yade.wrapper as yw
 
 from yadeproc import run_yade
 
@@ -40,16 +42,19 @@ def relative(a, b, columns):
     return worst
 
 
-@pytest.mark.parametrize('integration,dt,steps,velocity_bound', [
-    ('explicit', 5e-9, 3000, 1e-12),
-    ('implicit', 5e-6, 1000, 1e-7),
+TOLERANCE = yw.ViscBridgeImplicitSolver().tolerance  # the default the runs use
+
+
+@pytest.mark.parametrize('integration,dt,steps,position_bound,velocity_bound', [
+    ('explicit', 5e-9, 3000, 1e-12, 1e-12),
+    ('implicit', 5e-6, 1000, 1e-3 * TOLERANCE, 100 * TOLERANCE),
 ])
-def test_one_and_two_threads_agree(bed, integration, dt, steps, velocity_bound):
+def test_one_and_two_threads_agree(bed, integration, dt, steps, position_bound, velocity_bound):
     runs = [run_yade(SCRIPT, integration, dt, steps, bed, threads=t)[1] for t in (1, 2)]
     assert [r['threads'] for r in runs] == [1, 2]
     assert runs[0]['bridges'] == runs[1]['bridges'] > 50
     a, b = runs[0]['state'], runs[1]['state']
     pos, vel = relative(a, b, range(3)), relative(a, b, range(3, 9))
     print('%s: positions %.2g, velocities %.2g (relative)' % (integration, pos, vel))
-    assert pos <= 1e-12
+    assert pos <= position_bound
     assert vel <= velocity_bound

@@ -116,7 +116,7 @@ def test_explicit_settling_matches_serial(ranks):
 def test_implicit_settling_matches_serial(ranks, viscosity, speed):
     """Implicit: one backward-Euler system over all ranks, converged to the same tolerance as the
     serial solve.  The difference is the solver's: at a tolerance of 1e-12 the positions agree to
-    1e-9 (at the default 1e-9 they differ by ~3e-9 after 300 steps).  At 1 Pa·s the bridges keep
+    1e-9 (at the default 1e-6 they differ by ~2.5e-6 after 300 steps).  At 1 Pa·s the bridges keep
     the spheres apart and dt stays at the Rayleigh bound; at 0.01 Pa·s and 1 m/s contacts form and,
     with the Rayleigh bound moved out of the way (rayleighFraction 1), the stepper changes dt along
     the run, from the contacts of all ranks."""
@@ -135,14 +135,14 @@ def test_implicit_settling_matches_serial(ranks, viscosity, speed):
 
 
 def test_implicit_difference_scales_with_the_solver_tolerance():
-    """At the default tolerance the 3-rank positions still agree with the serial ones to well
-    below 1e-7, and they move closer as the tolerance is tightened: the solve over ranks converges
-    to the serial solution, not to a nearby one."""
+    """At the default tolerance (1e-6) the 3-rank positions agree with the serial ones to within 10×
+    that tolerance (measured: 2.5e-6), and they move closer as the tolerance is tightened: the solve
+    over ranks converges to the serial solution, not to a nearby one."""
     loose = ('--integration', 'implicit', '--viscosity', '1.0', '--speed', '0.3')
     tight = loose + ('--tolerance', '1e-12')
     d_loose = max_relative_position_difference(run_case(1, *loose)[0]['positions'], run_case(3, *loose)[0]['positions'])
     d_tight = max_relative_position_difference(run_case(1, *tight)[0]['positions'], run_case(3, *tight)[0]['positions'])
-    assert d_loose <= 1e-7
+    assert d_loose <= 10 * yw.ViscBridgeImplicitSolver().tolerance
     assert d_tight < 0.01 * d_loose
 
 

@@ -127,10 +127,12 @@ public:
 		adjacent_.resize(start_.back());
 		std::vector<int> fill(start_.begin(), start_.end() - 1);
 		anchored_.resize(bridges_.size());
+		loaded_.resize(bridges_.size());
 		for (size_t k = 0; k < bridges_.size(); ++k) {
 			adjacent_[fill[bridges_[k].body1]++] = static_cast<int>(k);
 			adjacent_[fill[bridges_[k].body2]++] = static_cast<int>(k);
 			anchored_[k]                         = isAnchored(bridges_[k].block);
+			loaded_[k] = !bridges_[k].shiftVel.isZero(0) || !allFree(bodies_[bridges_[k].body1]) || !allFree(bodies_[bridges_[k].body2]);
 		}
 	}
 
@@ -204,10 +206,26 @@ public:
 			if (isFree(d)) f.mask[d] = 1;
 			else if (others[d] == 0) f.prescribed[d] = current[d];
 		}
-		VecXd tmp;
-		apply(f.prescribed, tmp, true); // M·prescribed vanishes on the free rows; Δt D(prescribed + shift) stays
-		f.rhs = (rightHandSide() - tmp).cwiseProduct(f.mask);
+		f.rhs = (rightHandSide() - prescribedLoad(f.prescribed)).cwiseProduct(f.mask);
 		return f;
+	}
+
+	// Δt D (prescribed + shift): the load of the prescribed velocities (walls, fixed bodies, blocked
+	// components) and of the periodic shift, from the only bridges that carry one.
+	VecXd prescribedLoad(const VecXd& prescribed) const
+	{
+		VecXd y = VecXd::Zero(size());
+		for (size_t k = 0; k < bridges_.size(); ++k) {
+			const SystemBridge& c = bridges_[k];
+			if (!loaded_[k]) continue;
+			const BridgeResistance R = bridgeResistance(c.block, prescribed.segment<3>(6 * c.body1), prescribed.segment<3>(6 * c.body1 + 3),
+			                                            prescribed.segment<3>(6 * c.body2), prescribed.segment<3>(6 * c.body2 + 3), c.shiftVel);
+			y.segment<3>(6 * c.body1) += dt_ * R.force1;
+			y.segment<3>(6 * c.body1 + 3) += dt_ * R.torque1;
+			y.segment<3>(6 * c.body2) += dt_ * R.force2;
+			y.segment<3>(6 * c.body2 + 3) += dt_ * R.torque2;
+		}
+		return y;
 	}
 
 	// A_ff v (rows outside `mask` zero), timed and counted in rep.
@@ -404,7 +422,10 @@ private:
 	std::vector<SystemBridge> bridges_;
 	double                    dt_;
 	std::vector<int>          start_, adjacent_;
+	static bool allFree(const SystemBody& b) { return std::all_of(b.free.begin(), b.free.end(), [](bool f) { return f; }); }
+
 	std::vector<char>                     anchored_;   // per bridge: a wall side's anchor terms are needed
+	std::vector<char>                     loaded_;     // per bridge: it touches a prescribed component or is periodic-shifted
 	mutable std::vector<BridgeResistance> resistance_; // workspace of apply()
 };
 
