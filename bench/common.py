@@ -26,6 +26,22 @@ def bed(n, seed=5):
     return scan.dry_bed(scan.normalize_case(dict(n=n, seed=seed)), CACHE)
 
 
+def lattice(nx, ny, nz, radius=0.5e-3, **engine_options):
+    """A lattice of nx × ny × nz touching spheres (0.01 % overlap) on a floor, every neighbour contact
+    a bridge of Adams–Perchard + slip, with viscbridge.engines(**engine_options); O.dt = 1e-9."""
+    from yade import O, utils
+    import yade.wrapper as yw
+    import viscbridge
+    O.reset()
+    mat = O.materials.append(yw.FrictMat(young=1e7, poisson=0.3, density=2500, frictionAngle=0.5))
+    pitch = 2 * radius * (1 - 1e-4)
+    O.bodies.append(utils.wall(0, axis=2, sense=1, material=mat))
+    O.bodies.append([utils.sphere((i * pitch, j * pitch, radius * (1 - 1e-4) + k * pitch), radius, material=mat)
+                     for i in range(nx) for j in range(ny) for k in range(nz)])
+    O.engines = viscbridge.engines(normalModel='adamsPerchard', tangentialModel='slip', **engine_options)
+    O.dt = 1e-9
+
+
 def engines(config):
     """The engine list of a named configuration; every one has the same collider, geometry
     functors and integrator, only the physics and the law differ."""

@@ -24,21 +24,12 @@ SPLIT = ('timeGather', 'timeFactorise', 'timeSolve', 'timeProducts', 'timePrecon
 
 
 def bed():
-    from yade import O, utils
-    import yade.wrapper as yw
-    import viscbridge
-    O.reset()
-    mat = O.materials.append(yw.FrictMat(young=1e7, poisson=0.3, density=2500, frictionAngle=0.5))
-    pitch = 2 * R * (1 - 1e-4)  # touching, 0.01 % overlap
-    O.bodies.append(utils.wall(0, axis=2, sense=1, material=mat))
-    O.bodies.append([utils.sphere((i * pitch, j * pitch, R * (1 - 1e-4) + k * pitch), R, material=mat)
-                     for i in range(SIDE) for j in range(SIDE) for k in range(LAYERS)])
+    from yade import O
+    common.lattice(SIDE, SIDE, LAYERS, radius=R, viscosity=100.0, integration='implicit', timeStepper=False, guard=False)
     rng = random.Random(3)
     for b in O.bodies:
         if b.dynamic:
             b.state.vel = tuple(rng.uniform(-0.01, 0.01) for _ in range(3))
-    O.engines = viscbridge.engines(viscosity=100.0, normalModel='adamsPerchard', tangentialModel='slip',
-                                   integration='implicit', timeStepper=False, guard=False)
     O.dt = 5e-6
 
 

@@ -18,18 +18,7 @@ R = 0.5e-3
 
 
 def lattice(n_side, mu=1.0, integration='explicit'):
-    from yade import O, utils
-    import yade.wrapper as yw
-    import viscbridge
-    O.reset()
-    mat = O.materials.append(yw.FrictMat(young=1e7, poisson=0.3, density=2500, frictionAngle=0.5))
-    pitch = 2 * R * (1 - 1e-4)  # touching, 0.01 % overlap
-    O.bodies.append(utils.wall(0, axis=2, sense=1, material=mat))
-    O.bodies.append([utils.sphere((i * pitch, j * pitch, R * (1 - 1e-4) + k * pitch), R, material=mat)
-                     for i in range(n_side) for j in range(n_side) for k in range(n_side)])
-    O.engines = viscbridge.engines(viscosity=mu, normalModel='adamsPerchard', tangentialModel='slip',
-                                   integration=integration)
-    O.dt = 1e-9
+    common.lattice(n_side, n_side, n_side, radius=R, viscosity=mu, integration=integration)
 
 
 def worker(n_side, steps, config):
