@@ -133,7 +133,8 @@ ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const Newton
 	for (Body::id_t id = 0; id < static_cast<Body::id_t>(touched.size()); ++id) {
 		if (touched[id] < 0) continue;
 		touched[id] = static_cast<int>(g.bodies.size());
-		g.bodies.push_back(systemBody(*Body::byId(id, scene), own.body(*Body::byId(id, scene)), newton.gravity));
+		const Body& b = *Body::byId(id, scene);
+		g.bodies.push_back(systemBody(b, own.body(b), newton.gravity));
 		g.ids.push_back(id);
 		long freeBits = 0;
 		for (int d = 0; d < 6; ++d)
