@@ -28,30 +28,69 @@ namespace viscbridge {
 using Mat6  = Eigen::Matrix<double, 6, 6>;
 using VecXd = Eigen::VectorXd;
 
-// The block products of the factorisation and the solves, as plain loops over the column-major 6×6
-// storage: YADE builds (and so this plugin must build) Eigen with EIGEN_DONT_VECTORIZE, and loops
-// like these the compiler still vectorises (10 % fewer instructions than Eigen's scalar products
-// in the factorisation, measured with callgrind).
+// The block products of the factorisation and the solves, on the column-major 6×6 storage.  YADE
+// builds (and so this plugin must build) Eigen with EIGEN_DONT_VECTORIZE, so they are written with
+// GCC's vector extensions: a 6-row column is three pairs of doubles (SSE2, any x86-64) or, where the
+// caller is compiled for AVX2 + FMA (`Wide`), four and two.  Each product accumulates on its own and
+// is subtracted once, so that the blocks of a row do not wait for each other.
 namespace block {
 #if defined(__GNUC__)
 #define VISCBRIDGE_ALWAYS_INLINE inline __attribute__((always_inline))
 #else
 #define VISCBRIDGE_ALWAYS_INLINE inline
 #endif
-	// s −= B y
-	VISCBRIDGE_ALWAYS_INLINE void subtractProduct(double* __restrict s, const double* __restrict B, const double* __restrict y)
+	typedef double Lanes4 __attribute__((vector_size(32)));
+	typedef double Lanes2 __attribute__((vector_size(16)));
+	// (By reference: a 32-byte vector passed by value outside AVX code would change the ABI.)
+	template <class Lanes> VISCBRIDGE_ALWAYS_INLINE void load(Lanes& v, const double* p) { __builtin_memcpy(&v, p, sizeof v); }
+	template <class Lanes> VISCBRIDGE_ALWAYS_INLINE void subtractFrom(double* p, const Lanes& v)
 	{
-		for (int c = 0; c < 6; ++c)
-			for (int r = 0; r < 6; ++r)
-				s[r] -= B[6 * c + r] * y[c];
+		Lanes old;
+		load(old, p);
+		old -= v;
+		__builtin_memcpy(p, &old, sizeof old);
 	}
-	// C −= A Bᵀ
-	VISCBRIDGE_ALWAYS_INLINE void subtractOuter(double* __restrict C, const double* __restrict A, const double* __restrict B)
+	// acc = (first) or += the Lanes-wide part of a column starting at `column`, times y_c
+	template <class Lanes, bool first> VISCBRIDGE_ALWAYS_INLINE void accumulate(Lanes& acc, const double* column, double yc)
 	{
-		for (int k = 0; k < 6; ++k)
-			for (int c = 0; c < 6; ++c)
-				for (int r = 0; r < 6; ++r)
-					C[6 * c + r] -= A[6 * k + r] * B[6 * k + c];
+		Lanes v;
+		load(v, column);
+		if constexpr (first) acc = v * yc;
+		else acc += v * yc;
+	}
+
+	// s −= B y
+	template <bool Wide> VISCBRIDGE_ALWAYS_INLINE void subtractProduct(double* __restrict s, const double* __restrict B, const double* __restrict y)
+	{
+		if constexpr (Wide) {
+			Lanes4 a;
+			Lanes2 b;
+			accumulate<Lanes4, true>(a, B, y[0]);
+			accumulate<Lanes2, true>(b, B + 4, y[0]);
+			for (int c = 1; c < 6; ++c) {
+				accumulate<Lanes4, false>(a, B + 6 * c, y[c]);
+				accumulate<Lanes2, false>(b, B + 6 * c + 4, y[c]);
+			}
+			subtractFrom(s, a);
+			subtractFrom(s + 4, b);
+		} else {
+			Lanes2 a[3];
+			for (int h = 0; h < 3; ++h)
+				accumulate<Lanes2, true>(a[h], B + 2 * h, y[0]);
+			for (int c = 1; c < 6; ++c)
+				for (int h = 0; h < 3; ++h)
+					accumulate<Lanes2, false>(a[h], B + 6 * c + 2 * h, y[c]);
+			for (int h = 0; h < 3; ++h)
+				subtractFrom(s + 2 * h, a[h]);
+		}
+	}
+	// C −= A Bᵀ, column by column: C's column c takes A times B's row c.
+	template <bool Wide> VISCBRIDGE_ALWAYS_INLINE void subtractOuter(double* __restrict C, const double* __restrict A, const double* __restrict B)
+	{
+		for (int c = 0; c < 6; ++c) {
+			const double row[6] = { B[c], B[6 + c], B[12 + c], B[18 + c], B[24 + c], B[30 + c] };
+			subtractProduct<Wide>(C + 6 * c, A, row);
+		}
 	}
 }
 
@@ -107,32 +146,14 @@ public:
 	bool factorise(const BlockMatrix6& A)
 	{
 		if (!analysed_ || A.size() != static_cast<int>(order_.size()) || A.pairs.size() != pairTarget_.size()) return false;
-		std::fill(lower_.begin(), lower_.end(), Mat6::Zero());
-		for (size_t p = 0; p < pairTarget_.size(); ++p)
-			lower_[pairTarget_[p]] = pairTransposed_[p] ? Mat6(A.upper[p].transpose()) : A.upper[p];
-		std::array<char, 2> ok { 1, 1 };
-#pragma omp parallel for schedule(static, 1) if (parts_[1] > 0)
-		for (int half = 0; half < 2; ++half)
-			for (int j = parts_[half]; j < parts_[half + 1] && ok[half]; ++j)
-				ok[half] = factoriseColumn(j, A.diagonal[order_[j]], where_[half]);
-		for (int j = parts_[2]; j < parts_[3] && ok[0]; ++j)
-			ok[0] = factoriseColumn(j, A.diagonal[order_[j]], where_[0]);
-		if (!ok[0] || !ok[1]) return (factorised_ = false);
-		for (size_t q = 0; q < lower_.size(); ++q)
-			transposed_[q] = lower_[q].transpose();
-		for (size_t j = 0; j < inverseDiagonal_.size(); ++j)
-			inverseDiagonalTransposed_[j] = inverseDiagonal_[j].transpose();
-		return (factorised_ = true);
+		return (factorised_ = wideLanes() ? factoriseWide(A) : factoriseAnyCpu(A));
 	}
 
 	// x = A⁻¹ b, with block row i of A at block blockOf[i] of b and x (x may not alias b; its other
 	// blocks are left as they are).
 	void solve(const VecXd& b, VecXd& x, const std::vector<int>& blockOf) const
 	{
-#if defined(__GNUC__) && defined(__x86_64__)
-		static const bool avx = __builtin_cpu_supports("avx");
-		if (avx) return solveAvx(b, x, blockOf);
-#endif
+		if (wideLanes()) return solveWide(b, x, blockOf);
 		solveAnyCpu(b, x, blockOf);
 	}
 
@@ -157,29 +178,59 @@ public:
 	static constexpr int kSplitBodies = 1000; // below this, one thread and plain AMD order
 
 private:
-	// The two sweeps, each half's rows and columns side by side, then the separator's.  Compiled twice:
-	// for any x86-64 (SSE2) and with AVX (4 doubles per instruction: 25 % fewer instructions, with the
-	// same operations in the same order, so the same results).  The factorisation gains nothing from
-	// AVX (measured) and is compiled once.
-	VISCBRIDGE_ALWAYS_INLINE void sweeps(const VecXd& b, VecXd& x, const std::vector<int>& blockOf) const
+	// The two sweeps, each half's rows and columns side by side, then the separator's.  The sweeps and
+	// the factorisation are compiled twice: for any x86-64 (SSE2) and for AVX2 + FMA (`Wide`, chosen at
+	// run time; half the instructions).  FMA rounds once where SSE2 rounds twice, so the two builds
+	// differ in the last bits; on one machine the results do not depend on the thread count.
+	template <bool Wide> VISCBRIDGE_ALWAYS_INLINE void sweeps(const VecXd& b, VecXd& x, const std::vector<int>& blockOf) const
 	{
 #pragma omp parallel for schedule(static, 1) if (parts_[1] > 0)
 		for (int half = 0; half < 2; ++half)
-			forward(parts_[half], parts_[half + 1], b, blockOf);
-		forward(parts_[2], parts_[3], b, blockOf);
-		backward(parts_[2], parts_[3], x, blockOf);
+			forward<Wide>(parts_[half], parts_[half + 1], b, blockOf);
+		forward<Wide>(parts_[2], parts_[3], b, blockOf);
+		backward<Wide>(parts_[2], parts_[3], x, blockOf);
 #pragma omp parallel for schedule(static, 1) if (parts_[1] > 0)
 		for (int half = 0; half < 2; ++half)
-			backward(parts_[half], parts_[half + 1], x, blockOf);
+			backward<Wide>(parts_[half], parts_[half + 1], x, blockOf);
 	}
-	void solveAnyCpu(const VecXd& b, VecXd& x, const std::vector<int>& blockOf) const { sweeps(b, x, blockOf); }
+	void solveAnyCpu(const VecXd& b, VecXd& x, const std::vector<int>& blockOf) const { sweeps<false>(b, x, blockOf); }
+	bool factoriseAnyCpu(const BlockMatrix6& A) { return factoriseAll<false>(A); }
 #if defined(__GNUC__) && defined(__x86_64__)
-	__attribute__((target("avx"))) void solveAvx(const VecXd& b, VecXd& x, const std::vector<int>& blockOf) const { sweeps(b, x, blockOf); }
+	__attribute__((target("avx2,fma"))) void solveWide(const VecXd& b, VecXd& x, const std::vector<int>& blockOf) const { sweeps<true>(b, x, blockOf); }
+	__attribute__((target("avx2,fma"))) bool factoriseWide(const BlockMatrix6& A) { return factoriseAll<true>(A); }
+	static bool wideLanes()
+	{
+		static const bool wide = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+		return wide;
+	}
+#else
+	void        solveWide(const VecXd& b, VecXd& x, const std::vector<int>& blockOf) const { solveAnyCpu(b, x, blockOf); }
+	bool        factoriseWide(const BlockMatrix6& A) { return factoriseAnyCpu(A); }
+	static bool wideLanes() { return false; }
 #endif
+	template <bool Wide> VISCBRIDGE_ALWAYS_INLINE bool factoriseAll(const BlockMatrix6& A)
+	{
+		std::fill(lower_.begin(), lower_.end(), Mat6::Zero());
+		for (size_t p = 0; p < pairTarget_.size(); ++p)
+			lower_[pairTarget_[p]] = pairTransposed_[p] ? Mat6(A.upper[p].transpose()) : A.upper[p];
+		std::array<char, 2> ok { 1, 1 };
+#pragma omp parallel for schedule(static, 1) if (parts_[1] > 0)
+		for (int half = 0; half < 2; ++half)
+			for (int j = parts_[half]; j < parts_[half + 1] && ok[half]; ++j)
+				ok[half] = factoriseColumn<Wide>(j, A.diagonal[order_[j]], where_[half]);
+		for (int j = parts_[2]; j < parts_[3] && ok[0]; ++j)
+			ok[0] = factoriseColumn<Wide>(j, A.diagonal[order_[j]], where_[0]);
+		if (!ok[0] || !ok[1]) return false;
+		for (size_t q = 0; q < lower_.size(); ++q)
+			transposed_[q] = lower_[q].transpose();
+		for (size_t j = 0; j < inverseDiagonal_.size(); ++j)
+			inverseDiagonalTransposed_[j] = inverseDiagonal_[j].transpose();
+		return true;
+	}
 
 	// L y = b for the rows [first, last) of the eliminated order, each row pulling from the columns
 	// before it (in its own half, or anywhere for the separator's rows).
-	VISCBRIDGE_ALWAYS_INLINE void forward(int first, int last, const VecXd& b, const std::vector<int>& blockOf) const
+	template <bool Wide> VISCBRIDGE_ALWAYS_INLINE void forward(int first, int last, const VecXd& b, const std::vector<int>& blockOf) const
 	{
 		double* y = work_.data();
 		for (int j = first; j < last; ++j) {
@@ -187,11 +238,11 @@ private:
 			for (int r = 0; r < 6; ++r)
 				s[r] = b[6 * blockOf[order_[j]] + r];
 			for (int e = rowStart_[j]; e < rowStart_[j + 1]; ++e)
-				block::subtractProduct(s, lower_[rowEntry_[e]].data(), y + 6 * rowColumn_[e]);
+				block::subtractProduct<Wide>(s, lower_[rowEntry_[e]].data(), y + 6 * rowColumn_[e]);
 			double* yj = y + 6 * j;
 			for (int r = 0; r < 6; ++r)
 				yj[r] = 0;
-			block::subtractProduct(yj, inverseDiagonal_[j].data(), s); // −L_jj⁻¹ s
+			block::subtractProduct<Wide>(yj, inverseDiagonal_[j].data(), s); // −L_jj⁻¹ s
 			for (int r = 0; r < 6; ++r)
 				yj[r] = -yj[r];
 		}
@@ -199,7 +250,7 @@ private:
 
 	// Lᵀ x = y for the columns [first, last), last first, each pulling from the rows below it (with
 	// the transposed blocks, so that both sweeps use the same kernel).
-	VISCBRIDGE_ALWAYS_INLINE void backward(int first, int last, VecXd& x, const std::vector<int>& blockOf) const
+	template <bool Wide> VISCBRIDGE_ALWAYS_INLINE void backward(int first, int last, VecXd& x, const std::vector<int>& blockOf) const
 	{
 		double* y = work_.data();
 		for (int j = last - 1; j >= first; --j) {
@@ -207,11 +258,11 @@ private:
 			for (int r = 0; r < 6; ++r)
 				s[r] = y[6 * j + r];
 			for (int q = columnStart_[j]; q < columnStart_[j + 1]; ++q)
-				block::subtractProduct(s, transposed_[q].data(), y + 6 * rows_[q]);
+				block::subtractProduct<Wide>(s, transposed_[q].data(), y + 6 * rows_[q]);
 			double* yj = y + 6 * j;
 			for (int r = 0; r < 6; ++r)
 				yj[r] = 0;
-			block::subtractProduct(yj, inverseDiagonalTransposed_[j].data(), s); // −L_jj⁻ᵀ s
+			block::subtractProduct<Wide>(yj, inverseDiagonalTransposed_[j].data(), s); // −L_jj⁻ᵀ s
 			for (int r = 0; r < 6; ++r)
 				x[6 * blockOf[order_[j]] + r] = yj[r] = -yj[r];
 		}
@@ -359,7 +410,7 @@ private:
 	}
 
 	// Column j of L from A's column and the columns k < j that have a block in row j.
-	bool factoriseColumn(int j, const Mat6& diagonal, std::vector<int>& where)
+	template <bool Wide> VISCBRIDGE_ALWAYS_INLINE bool factoriseColumn(int j, const Mat6& diagonal, std::vector<int>& where)
 	{
 		for (int q = columnStart_[j]; q < columnStart_[j + 1]; ++q)
 			where[rows_[q]] = q;
@@ -367,15 +418,17 @@ private:
 		for (int e = rowStart_[j]; e < rowStart_[j + 1]; ++e) {
 			const int   k = rowColumn_[e], q0 = rowEntry_[e];
 			const Mat6& ljk = lower_[q0];
-			block::subtractOuter(d.data(), ljk.data(), ljk.data());
+			block::subtractOuter<Wide>(d.data(), ljk.data(), ljk.data());
 			for (int q = q0 + 1; q < columnStart_[k + 1]; ++q) // rows below j in column k are rows of column j
-				block::subtractOuter(lower_[where[rows_[q]]].data(), lower_[q].data(), ljk.data());
+				block::subtractOuter<Wide>(lower_[where[rows_[q]]].data(), lower_[q].data(), ljk.data());
 		}
 		const Eigen::LLT<Mat6> llt(d);
 		if (llt.info() != Eigen::Success) return false;
 		inverseDiagonal_[j] = llt.matrixL().solve(Mat6::Identity());
 		for (int q = columnStart_[j]; q < columnStart_[j + 1]; ++q) {
-			lower_[q] = lower_[q] * inverseDiagonal_[j].transpose();
+			Mat6 minus = Mat6::Zero(); // −L_qj = −A_qj L_jj⁻ᵀ
+			block::subtractOuter<Wide>(minus.data(), lower_[q].data(), inverseDiagonal_[j].data());
+			lower_[q] = -minus;
 			where[rows_[q]] = -1;
 		}
 		return true;
