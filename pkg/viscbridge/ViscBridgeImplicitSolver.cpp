@@ -63,7 +63,7 @@ struct ViscBridgeImplicitSolver::Gathered {
 	std::vector<Body::id_t>      ids; // the system's bodies, ordered by id (same bodies, same system)
 	std::vector<vb::SystemBody>  bodies;
 	std::vector<vb::SystemBridge> system;
-	std::vector<long>            pattern; // bodies with their free components, and bridges: decides whether the factor's analysis still holds
+	std::vector<long>            pattern; // bodies with their free components, and bridges (in the interactions' order): decides whether the factor's analysis still holds
 };
 
 void ViscBridgeImplicitSolver::action()
@@ -121,10 +121,11 @@ ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const Newton
 	scene->forces.sync();
 	Gathered g;
 	touched.assign(scene->bodies->size(), -1);
+	const int vbIndex = ViscBridgePhys::getClassIndexStatic();
 	for (const auto& I : *scene->interactions) {
-		if (!I->isReal()) continue;
-		auto* ph = dynamic_cast<ViscBridgePhys*>(I->phys.get());
-		if (!ph || !ph->bridge || !ph->implicitBlock.valid || ph->implicitBlockIter != scene->iter) continue;
+		if (!I->isReal() || I->phys->getClassIndex() != vbIndex) continue;
+		auto* ph = static_cast<ViscBridgePhys*>(I->phys.get());
+		if (!ph->bridge || !ph->implicitBlock.valid || ph->implicitBlockIter != scene->iter) continue;
 		g.described.push_back(I.get());
 		g.owners.push_back(ph);
 		touched[I->getId1()] = touched[I->getId2()] = 0;
@@ -152,7 +153,6 @@ ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const Newton
 		g.system.push_back(c);
 		g.pattern.push_back(-(static_cast<long>(std::min(c.body1, c.body2)) * (1L << 31) + std::max(c.body1, c.body2)) - 1);
 	}
-	std::sort(g.pattern.begin(), g.pattern.end());
 	return g;
 }
 
@@ -197,15 +197,27 @@ Eigen::VectorXd ViscBridgeImplicitSolver::warmStartGuess(const vb::ImplicitVisco
 const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const vb::ImplicitViscousSystem& sys, const std::vector<long>& pattern)
 {
 	if (preconditioner != "cholesky" || sys.size() == 0) return nullptr;
-	const bool samePattern = factorisation && pattern == factorisedPattern && factorisation->matches(sys.size());
+	// The same bodies and bridges: usually in the same order as at the factorisation (YADE reorders its
+	// interactions only when some are erased), else the same set once sorted.
+	std::vector<long> sorted;
+	auto              sortedPattern = [&]() -> const std::vector<long>& {
+                if (sorted.empty()) {
+                        sorted = pattern;
+                        std::sort(sorted.begin(), sorted.end());
+                }
+                return sorted;
+	};
+	const bool samePattern = factorisation && factorisation->matches(sys.size()) && (pattern == factorisedOrder || sortedPattern() == factorisedPattern);
 	if (samePattern && lastIterationsSeen <= refreshIterations && factorisedIter >= 0) return factorisation.get();
 	if (!factorisation) factorisation = shared_ptr<vb::LaggedCholesky>(new vb::LaggedCholesky);
 	if (!factorisation->refresh(sys, samePattern)) {
 		factorisation.reset(); // not positive definite: CG with block Jacobi, then the fallback
 		factorisedPattern.clear();
+		factorisedOrder.clear();
 		return nullptr;
 	}
-	factorisedPattern = pattern;
+	factorisedPattern = sortedPattern();
+	factorisedOrder   = pattern;
 	factorisedIter    = scene->iter;
 	factorBlocks      = static_cast<long>(factorisation->factor().offDiagonalBlocks());
 	++factorisations;

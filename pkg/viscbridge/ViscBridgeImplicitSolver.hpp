@@ -14,7 +14,7 @@ class ViscBridgeImplicitSolver : public GlobalEngine {
 	std::vector<Vector3r> lastViscousForce, lastViscousTorque; // per body id, for the warm start
 	// The lagged factorisation and what it was computed for (bodies, bridges, free components).
 	shared_ptr<viscbridge::LaggedCholesky> factorisation;
-	std::vector<long>                      factorisedPattern;
+	std::vector<long>                      factorisedPattern, factorisedOrder; // sorted (the set), and as gathered (the order, to skip the sort when unchanged)
 	long                                   factorisedIter = -1;
 	int                                    lastIterationsSeen = 0;
 	size_t                                 validatedSignature = 0; // sceneSignature() of the last validated scene

@@ -88,7 +88,8 @@ Eigen::MatrixXd dense(const BlockMatrix6& A)
 } // namespace
 
 // The assembled blocks are the resistance map itself (same forces for any velocities), for two
-// spheres and for a moving wall whose anchor is off its centre.
+// spheres (the reduced form of sphereBridgeDampingMatrix) and for a moving wall whose anchor is off
+// its centre (the general form).
 TEST(ImplicitLinearAlgebra, BridgeMatrixIsTheResistanceMap)
 {
 	std::mt19937 g(11);

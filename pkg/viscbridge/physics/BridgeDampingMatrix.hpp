@@ -22,8 +22,30 @@ inline Eigen::Matrix3d crossMatrix(const Vec3& a)
 	return m;
 }
 
+// Two spheres (r1 = r2 = 0): with N P = N and N² = −P the blocks reduce to
+// σ_kσ_l T, −σ_k a_l m12 N, σ_l a_k m21 N and a_k a_l m22 P (a fifth of the general form's work).
+inline BridgeDampingMatrix sphereBridgeDampingMatrix(const ViscousBlock& b)
+{
+	using Mat3              = Eigen::Matrix3d;
+	const auto&  m          = b.resistance;
+	const Mat3   nn         = b.n * b.n.transpose(), P = Mat3::Identity() - nn, N = crossMatrix(b.n);
+	const Mat3   T          = b.cn * nn + m.m11 * P;
+	const double sigma[2]   = { 1, -1 }, arm[2] = { b.a1, b.a2 };
+	BridgeDampingMatrix out;
+	for (int k = 0; k < 2; ++k)
+		for (int l = 0; l < 2; ++l) {
+			auto& B = out.block[k][l];
+			B.topLeftCorner<3, 3>()     = (sigma[k] * sigma[l]) * T;
+			B.topRightCorner<3, 3>()    = (-sigma[k] * arm[l] * m.m12) * N;
+			B.bottomLeftCorner<3, 3>()  = (sigma[l] * arm[k] * m.m21) * N;
+			B.bottomRightCorner<3, 3>() = (arm[k] * arm[l] * m.m22) * P;
+		}
+	return out;
+}
+
 inline BridgeDampingMatrix bridgeDampingMatrix(const ViscousBlock& b)
 {
+	if (!isAnchored(b)) return sphereBridgeDampingMatrix(b);
 	using Mat3              = Eigen::Matrix3d;
 	const auto&  m          = b.resistance;
 	const Mat3   nn         = b.n * b.n.transpose(), P = Mat3::Identity() - nn, N = crossMatrix(b.n);
