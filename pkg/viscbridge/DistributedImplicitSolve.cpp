@@ -15,7 +15,6 @@ namespace {
 		const Scene*   scene;
 		GhostExchange& exchange;
 		double         sum(double v) const { return distributed::sum(scene, v); }
-		void           sum(double& a, double& b) const { distributed::sum(scene, { &a, &b }); }
 		void           share(VecXd& p) const { exchange.refresh(p); }
 	};
 }

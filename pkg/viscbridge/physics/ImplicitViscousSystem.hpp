@@ -75,38 +75,41 @@ public:
 // direction equal to their owners'; serially, nothing to do.
 struct SerialReduction {
 	double sum(double v) const { return v; }
-	void   sum(double&, double&) const { }
 	void   share(VecXd&) const { }
 };
 
 // Preconditioned conjugate gradients: x from its start value, with r = b − A x on entry; stops at
-// ‖r‖/bnorm ≤ tolerance (or a non-finite residual) or after maxIterations (rep says which).
+// ‖r‖/bnorm ≤ tolerance (or a non-finite residual) or after maxIterations (rep says which).  The
+// residual is tested before the preconditioner is applied to it, so that a converged iteration does
+// not pay for a preconditioner application it would not use (one of the four of a typical solve).
 template <class Product, class Precondition, class Reduction>
 void conjugateGradients(VecXd& x, VecXd& r, double bnorm, double tolerance, int maxIterations, const Product& product, const Precondition& precondition,
                         const Reduction& reduction, SolveReport& rep)
 {
+	auto converged = [&](const VecXd& residual) {
+		rep.residual = std::sqrt(reduction.sum(residual.squaredNorm())) / bnorm;
+		return rep.residual <= tolerance || !std::isfinite(rep.residual);
+	};
+	rep.iterations = 0;
+	if (converged(r)) return;
 	VecXd z, p, Ap;
 	precondition(r, z);
 	p = z;
 	reduction.share(p);
-	double rz = r.dot(z), rr = r.squaredNorm();
-	reduction.sum(rz, rr);
-	for (rep.iterations = 0; rep.iterations < maxIterations; ++rep.iterations) {
-		rep.residual = std::sqrt(rr) / bnorm;
-		if (rep.residual <= tolerance || !std::isfinite(rep.residual)) break;
+	double rz = reduction.sum(r.dot(z));
+	while (rep.iterations < maxIterations) {
 		product(p, Ap);
+		++rep.iterations;
 		const double alpha = rz / reduction.sum(p.dot(Ap));
 		x.noalias() += alpha * p;
 		r.noalias() -= alpha * Ap;
+		if (converged(r)) return;
 		precondition(r, z);
 		const double rzOld = rz;
-		rz                 = r.dot(z);
-		rr                 = r.squaredNorm();
-		reduction.sum(rz, rr);
-		p = z + (rz / rzOld) * p;
+		rz                 = reduction.sum(r.dot(z));
+		p                  = z + (rz / rzOld) * p;
 		reduction.share(p);
 	}
-	rep.residual = std::sqrt(rr) / bnorm;
 }
 
 class ImplicitViscousSystem {
