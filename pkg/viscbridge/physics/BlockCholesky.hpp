@@ -424,7 +424,7 @@ private:
 		}
 		const Eigen::LLT<Mat6> llt(d);
 		if (llt.info() != Eigen::Success) return false;
-		inverseDiagonal_[j] = llt.matrixL().solve(Mat6::Identity());
+		invertLower(llt.matrixLLT(), inverseDiagonal_[j]);
 		for (int q = columnStart_[j]; q < columnStart_[j + 1]; ++q) {
 			Mat6 minus = Mat6::Zero(); // −L_qj = −A_qj L_jj⁻ᵀ
 			block::subtractOuter<Wide>(minus.data(), lower_[q].data(), inverseDiagonal_[j].data());
@@ -432,6 +432,22 @@ private:
 			where[rows_[q]] = -1;
 		}
 		return true;
+	}
+
+	// X = L⁻¹ for the lower triangle L of `l`, by columns (Eigen's triangular solve takes its general,
+	// blocked path for a 6×6 and cost a fifth of the factorisation).
+	static void invertLower(const Mat6& l, Mat6& X)
+	{
+		X.setZero();
+		for (int c = 0; c < 6; ++c) {
+			X(c, c) = 1 / l(c, c);
+			for (int r = c + 1; r < 6; ++r) {
+				double s = 0;
+				for (int k = c; k < r; ++k)
+					s += l(r, k) * X(k, c);
+				X(r, c) = -s / l(r, r);
+			}
+		}
 	}
 
 	std::vector<int>   order_, position_;           // order_[k]: the block row eliminated k-th; position_ its inverse
