@@ -179,15 +179,16 @@ vb::SystemBody ViscBridgeImplicitSolver::systemBody(const Body& b, bool owned, c
 	return sb;
 }
 
-// The velocities last step's viscous forces would give now (else the current ones).
+// The current velocities plus the last step's change of them (else the current ones): the velocities
+// of a settling bed change smoothly, while the other forces alone (contacts) would move them as if
+// the bridges did not resist.
 Eigen::VectorXd ViscBridgeImplicitSolver::warmStartGuess(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids) const
 {
 	Eigen::VectorXd x = sys.currentVelocities();
-	if (!warmStart || lastViscousForce.size() != scene->bodies->size()) return x;
+	if (!warmStart || lastVelocityChange.size() != scene->bodies->size()) return x;
 	for (size_t i = 0; i < ids.size(); ++i) {
-		const vb::SystemBody& b = sys.bodies()[i];
-		if (b.mass > 0) x.segment<3>(6 * i) += scene->dt * (b.force + lastViscousForce[ids[i]]) / b.mass;
-		if (b.inertia > 0) x.segment<3>(6 * i + 3) += scene->dt * (b.torque + lastViscousTorque[ids[i]]) / b.inertia;
+		x.segment<3>(6 * i) += lastVelocityChange[ids[i]];
+		x.segment<3>(6 * i + 3) += lastAngularVelocityChange[ids[i]];
 	}
 	return x;
 }
@@ -268,12 +269,12 @@ void ViscBridgeImplicitSolver::applyForces(const vb::ImplicitViscousSystem& sys,
 		reactF[c.body2] -= R[k].force2;
 		reactT[c.body2] -= R[k].torque2;
 	}
-	if (warmStart) {
-		lastViscousForce.resize(scene->bodies->size(), Vector3r::Zero());
-		lastViscousTorque.resize(scene->bodies->size(), Vector3r::Zero());
+	if (warmStart) { // only this step's bodies: one that rejoins the system later starts from its velocity
+		lastVelocityChange.assign(scene->bodies->size(), Vector3r::Zero());
+		lastAngularVelocityChange.assign(scene->bodies->size(), Vector3r::Zero());
 		for (size_t i = 0; i < nBodies; ++i) {
-			lastViscousForce[ids[i]]  = reactF[i];
-			lastViscousTorque[ids[i]] = reactT[i];
+			lastVelocityChange[ids[i]]        = x.segment<3>(6 * i) - sys.bodies()[i].vel;
+			lastAngularVelocityChange[ids[i]] = x.segment<3>(6 * i + 3) - sys.bodies()[i].angVel;
 		}
 	}
 	const Real dt = scene->dt;
@@ -298,7 +299,7 @@ void ViscBridgeImplicitSolver::bookEnergy(const vb::ImplicitViscousSystem& sys, 
 	const Real dt  = scene->dt;
 	Real       dissipN = 0, dissipT = 0, dissipR = 0;
 	bool       tangentialEffect = false;
-	const Eigen::VectorXd v0    = sys.currentVelocities();
+	const Eigen::VectorXd v0    = scene->trackEnergy ? sys.currentVelocities() : Eigen::VectorXd(); // the work needs the step's start
 	for (size_t k = 0; k < R.size(); ++k) {
 		const vb::SystemBridge& c  = sys.bridges()[k];
 		const vb::ViscousBlock& bl = c.block;
@@ -313,7 +314,7 @@ void ViscBridgeImplicitSolver::bookEnergy(const vb::ImplicitViscousSystem& sys, 
 			return vn;
 		};
 		Vector3r   u1, s1, u0, s0;
-		const Real vn1 = kinematics(x, u1, s1), vn0 = kinematics(v0, u0, s0);
+		const Real vn1 = kinematics(x, u1, s1);
 		const Vector3r normal = -bl.cn * vn1 * bl.n;
 		ph.normalViscousForce = normal;
 		ph.shearViscousForce  = -R[k].force1 - normal;
@@ -321,6 +322,7 @@ void ViscBridgeImplicitSolver::bookEnergy(const vb::ImplicitViscousSystem& sys, 
 		ph.shearForce -= ph.shearViscousForce;
 		if (scene->trackEnergy && own.interaction(*g.described[k], scene)) { // [MPI] a shared bridge is booked by one rank
 			tangentialEffect = tangentialEffect || bl.resistance.m11 != 0 || bl.resistance.m22 != 0;
+			const Real vn0   = kinematics(v0, u0, s0);
 			dissipN += bl.cn * vn1 * 0.5 * (vn1 + vn0) * dt;
 			const vb::TangentialWork w = vb::tangentialWork(bl.resistance, u1, s1, u0, s0);
 			dissipT += w.sliding * dt;
