@@ -179,16 +179,15 @@ vb::SystemBody ViscBridgeImplicitSolver::systemBody(const Body& b, bool owned, c
 	return sb;
 }
 
-// The current velocities plus the last step's change of them (else the current ones): the velocities
-// of a settling bed change smoothly, while the other forces alone (contacts) would move them as if
-// the bridges did not resist.
+// The velocities last step's viscous forces would give now (else the current ones).
 Eigen::VectorXd ViscBridgeImplicitSolver::warmStartGuess(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids) const
 {
 	Eigen::VectorXd x = sys.currentVelocities();
-	if (!warmStart || lastVelocityChange.size() != scene->bodies->size()) return x;
+	if (!warmStart || lastViscousForce.size() != scene->bodies->size()) return x;
 	for (size_t i = 0; i < ids.size(); ++i) {
-		x.segment<3>(6 * i) += lastVelocityChange[ids[i]];
-		x.segment<3>(6 * i + 3) += lastAngularVelocityChange[ids[i]];
+		const vb::SystemBody& b = sys.bodies()[i];
+		if (b.mass > 0) x.segment<3>(6 * i) += scene->dt * (b.force + lastViscousForce[ids[i]]) / b.mass;
+		if (b.inertia > 0) x.segment<3>(6 * i + 3) += scene->dt * (b.torque + lastViscousTorque[ids[i]]) / b.inertia;
 	}
 	return x;
 }
@@ -269,12 +268,12 @@ void ViscBridgeImplicitSolver::applyForces(const vb::ImplicitViscousSystem& sys,
 		reactF[c.body2] -= R[k].force2;
 		reactT[c.body2] -= R[k].torque2;
 	}
-	if (warmStart) { // only this step's bodies: one that rejoins the system later starts from its velocity
-		lastVelocityChange.assign(scene->bodies->size(), Vector3r::Zero());
-		lastAngularVelocityChange.assign(scene->bodies->size(), Vector3r::Zero());
+	if (warmStart) {
+		lastViscousForce.resize(scene->bodies->size(), Vector3r::Zero());
+		lastViscousTorque.resize(scene->bodies->size(), Vector3r::Zero());
 		for (size_t i = 0; i < nBodies; ++i) {
-			lastVelocityChange[ids[i]]        = x.segment<3>(6 * i) - sys.bodies()[i].vel;
-			lastAngularVelocityChange[ids[i]] = x.segment<3>(6 * i + 3) - sys.bodies()[i].angVel;
+			lastViscousForce[ids[i]]  = reactF[i];
+			lastViscousTorque[ids[i]] = reactT[i];
 		}
 	}
 	const Real dt = scene->dt;

@@ -11,7 +11,7 @@ namespace yade {
 class NewtonIntegrator;
 
 class ViscBridgeImplicitSolver : public GlobalEngine {
-	std::vector<Vector3r> lastVelocityChange, lastAngularVelocityChange; // per body id, over the last step: the warm start
+	std::vector<Vector3r> lastViscousForce, lastViscousTorque; // per body id, for the warm start
 	// The lagged factorisation and what it was computed for (bodies, bridges, free components).
 	shared_ptr<viscbridge::LaggedCholesky> factorisation;
 	std::vector<long>                      factorisedPattern, factorisedOrder; // sorted (the set), and as gathered (the order, to skip the sort when unchanged)
@@ -57,7 +57,7 @@ public:
 		":yref:`NewtonIntegrator.damping` = 0. Place it after the time stepper and before "
 		":yref:`NewtonIntegrator` (:yref:`viscbridge.engines(integration='implicit')` does).\n\n"
 		"The linear system is solved matrix-free by preconditioned conjugate gradients to the relative "
-		"residual `tolerance`, warm-started by repeating the last step's velocity change; the matrix products run "
+		"residual `tolerance`, warm-started from the last step's viscous forces; the matrix products run "
 		"in parallel with OpenMP. The default preconditioner is a Cholesky factorisation of the "
 		"system in 6×6 blocks (one block row per body; a large system is bisected so that two threads "
 		"factorise and apply it side by side) that is kept while the bridges stay the same and "
@@ -74,7 +74,7 @@ public:
 		"global (same tolerance as serially; preconditioner: each rank's own block, no direct fallback).",
 		((Real,tolerance,1e-6,Attr::triggerPostLoad,"Relative residual ‖r‖/‖b‖ at which CG stops, in (0, 1). The default adds an error far below the scheme's own (bench/accuracy_cost.py, docs/performance.md §1); 1e-9 costs about two more iterations per step."))
 		((int,maxIterations,500,Attr::triggerPostLoad,"CG iterations before the direct fallback, >= 1."))
-		((bool,warmStart,true,,"Start CG from the current velocities plus the last step's change of them (a linear extrapolation: 9 % fewer iterations than the last step's viscous forces added to this step's other forces, on the settling bed); else from the current velocities."))
+		((bool,warmStart,true,,"Start CG from the velocities the last step's viscous forces would give (else from the current velocities)."))
 		((string,preconditioner,"cholesky",Attr::triggerPostLoad,"'cholesky' (lagged sparse factorisation) or 'jacobi' (6×6 blocks per body)."))
 		((int,refreshIterations,4,Attr::triggerPostLoad,"With 'cholesky': refactorise when the last solve took more CG iterations than this, >= 1 (the factor ages as the bridges' normals turn: docs/performance.md §2)."))
 		((long,factorisations,0,Attr::readonly,"Cholesky factorisations done (preconditioner refreshes)."))
