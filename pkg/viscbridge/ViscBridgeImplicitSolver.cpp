@@ -192,8 +192,11 @@ Eigen::VectorXd ViscBridgeImplicitSolver::warmStartGuess(const vb::ImplicitVisco
 	return x;
 }
 
-// The lagged factorisation, refactorised when the bridges or free components changed or the last
-// solve needed more than refreshIterations iterations (its analysis is kept if only the numbers changed).
+// The lagged factorisation, refactorised when the bridges or free components changed, when a refresh
+// pays (renewal: the last solve's iterations c_T reach the cycle's average cost per step
+// (refreshCost + Σ c_i)/T, which a later refresh could only raise while the iterations grow), or
+// when the last solve needed more than refreshIterations iterations.  The analysis is kept if only
+// the numbers changed.
 const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const vb::ImplicitViscousSystem& sys, const std::vector<long>& pattern)
 {
 	if (preconditioner != "cholesky" || sys.size() == 0) return nullptr;
@@ -208,7 +211,8 @@ const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const 
                 return sorted;
 	};
 	const bool samePattern = factorisation && factorisation->matches(sys.size()) && (pattern == factorisedOrder || sortedPattern() == factorisedPattern);
-	if (samePattern && lastIterationsSeen <= refreshIterations && factorisedIter >= 0) return factorisation.get();
+	const bool pays = cycleSolves > 0 && static_cast<double>(lastIterationsSeen) * cycleSolves >= refreshCost + cycleIterations;
+	if (samePattern && !pays && lastIterationsSeen <= refreshIterations && factorisedIter >= 0) return factorisation.get();
 	if (!factorisation) factorisation = shared_ptr<vb::LaggedCholesky>(new vb::LaggedCholesky);
 	if (!factorisation->refresh(sys, samePattern)) {
 		factorisation.reset(); // not positive definite: CG with block Jacobi, then the fallback
@@ -220,6 +224,8 @@ const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const 
 	factorisedOrder   = pattern;
 	factorisedIter    = scene->iter;
 	factorBlocks      = static_cast<long>(factorisation->factor().offDiagonalBlocks());
+	refreshCost       = factorisation->refreshCost(sys.bridges().size());
+	cycleSolves = cycleIterations = 0;
 	++factorisations;
 	return factorisation.get();
 }
@@ -230,6 +236,8 @@ void ViscBridgeImplicitSolver::solve(const vb::ImplicitViscousSystem& sys, const
 	const vb::SolveReport rep = distributed::active(scene) ? solveOverRanks(scene, sys, ids, x, tolerance, maxIterations, pre)
 	                                                       : sys.solve(x, tolerance, maxIterations, pre);
 	lastIterationsSeen = rep.iterations;
+	++cycleSolves;
+	cycleIterations += rep.iterations;
 	unknowns           = 0;
 	for (size_t d = 0; d < sys.size(); ++d)
 		unknowns += sys.isFree(d) ? 1 : 0;

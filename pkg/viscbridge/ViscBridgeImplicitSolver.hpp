@@ -17,9 +17,10 @@ class ViscBridgeImplicitSolver : public GlobalEngine {
 	std::vector<long>                      factorisedPattern, factorisedOrder; // sorted (the set), and as gathered (the order, to skip the sort when unchanged)
 	long                                   factorisedIter = -1;
 	int                                    lastIterationsSeen = 0;
+	long                                   cycleSolves = 0, cycleIterations = 0; // since the last refresh
 	size_t                                 validatedSignature = 0; // sceneSignature() of the last validated scene
 	Real                  lastValidTolerance = 1e-6;
-	int                   lastValidMaxIterations = 500, lastValidRefresh = 4;
+	int                   lastValidMaxIterations = 500, lastValidRefresh = 12;
 	std::string           lastValidPreconditioner = "cholesky";
 	int                   viscDissipNormalIx = -1, viscDissipTangentialIx = -1, viscDissipRotationalIx = -1;
 
@@ -61,13 +62,15 @@ public:
 		"in parallel with OpenMP. The default preconditioner is a Cholesky factorisation of the "
 		"system in 6×6 blocks (one block row per body; a large system is bisected so that two threads "
 		"factorise and apply it side by side) that is kept while the bridges stay the same and "
-		"refreshed when CG needs more than refreshIterations iterations (bridges below $S_{min}$ have "
+		"refreshed when that pays: when the last solve's iterations reach the average cost per step since "
+		"the last refresh, the refresh's own cost (refreshCost, in iterations) included — the renewal "
+		"rule that minimises the average — or when they exceed refreshIterations (bridges below $S_{min}$ have "
 		"constant coefficients, so it stays nearly exact; it ages as the bridges' normals turn); 'jacobi' uses 6×6 blocks per body instead (no factorisation, but hundreds of "
 		"iterations when Δt·C/m is large). If CG does not converge within maxIterations, the "
 		"assembled system is factorised and solved directly instead, with a warning and `fallbacks` "
 		"counting it; if that fails too, the run stops with an error.\n\n"
 		"Counters: iterations, totalIterations, products, solves, factorisations (refreshes), fallbacks, "
-		"factorBlocks; and the wall time of each step of the engine (gather, refresh, solve with its "
+		"factorBlocks, refreshCost; and the wall time of each step of the engine (gather, refresh, solve with its "
 		"products and preconditioner, apply, book energy) in timeGather … timeEnergy.\n\n"
 		"Under yade.mpy (docs/cluster.md) it solves one system over all ranks: each rank holds its own bodies' rows, the "
 		"velocities of the neighbours' bodies its bridges touch are exchanged at every CG iteration, and the residual is "
@@ -76,7 +79,7 @@ public:
 		((int,maxIterations,500,Attr::triggerPostLoad,"CG iterations before the direct fallback, >= 1."))
 		((bool,warmStart,true,,"Start CG from the velocities the last step's viscous forces would give (else from the current velocities)."))
 		((string,preconditioner,"cholesky",Attr::triggerPostLoad,"'cholesky' (lagged sparse factorisation) or 'jacobi' (6×6 blocks per body)."))
-		((int,refreshIterations,4,Attr::triggerPostLoad,"With 'cholesky': refactorise when the last solve took more CG iterations than this, >= 1 (the factor ages as the bridges' normals turn: docs/performance.md §2)."))
+		((int,refreshIterations,12,Attr::triggerPostLoad,"With 'cholesky': refactorise at the latest when the last solve took more CG iterations than this, >= 1 (earlier when the renewal rule says a refresh pays; the factor ages as the bridges' normals turn: docs/performance.md §2)."))
 		((long,factorisations,0,Attr::readonly,"Cholesky factorisations done (preconditioner refreshes)."))
 		((int,iterations,0,Attr::readonly,"CG iterations of the last solve."))
 		((Real,residual,0,Attr::readonly,"Relative residual of the last solve."))
@@ -87,6 +90,7 @@ public:
 		((int,unknowns,0,Attr::readonly,"Free velocity components in the last solve."))
 		((int,bridges,0,Attr::readonly,"Bridges in the last solve."))
 		((long,factorBlocks,0,Attr::readonly|Attr::noSave,"6×6 blocks below the diagonal of the last factorisation (fill included)."))
+		((Real,refreshCost,0,Attr::readonly|Attr::noSave,"Estimated cost of one refresh (assembly and factorisation) in CG iterations, from the factor's structure; weighs the renewal rule."))
 		((Real,timeGather,0,Attr::readonly|Attr::noSave,"Wall time of the step 'gather': collecting bodies and bridges, building the system and the start vector, all solves [s]."))
 		((Real,timeFactorise,0,Attr::readonly|Attr::noSave,"Wall time of the step 'refresh': assembling and factorising the preconditioner [s]."))
 		((Real,timeSolve,0,Attr::readonly|Attr::noSave,"Wall time of the step 'solve': conjugate gradients (and fallbacks), of which timeProducts and timePreconditioner [s]."))

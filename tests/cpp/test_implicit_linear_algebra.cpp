@@ -229,12 +229,30 @@ TEST(ImplicitLinearAlgebra, BlockCholeskyFillAndRefusal)
 	chol.analyse(n, chain.pairs);
 	ASSERT_TRUE(chol.factorise(chain));
 	EXPECT_EQ(chol.offDiagonalBlocks(), static_cast<size_t>(n - 1));
+	// the work the solver weighs: per block of L one diagonal update and its scaling; two sweeps
+	EXPECT_EQ(chol.factorisationWork(), 6.0 * 2 * (n - 1));
+	EXPECT_EQ(chol.solveWork(), 2.0 * (n + n - 1));
 	chain.diagonal[n / 2](3, 3) = -1;
 	EXPECT_FALSE(chol.factorise(chain));
 	EXPECT_FALSE(chol.factorised());
 }
 
 namespace {
+// Four fully coupled blocks: L is full (6 blocks) and block (j, k) updates the diagonal of j and
+// the 3 − j blocks below it in column k: Σ_j j (4 − j) = 10 updates, dense Cholesky's count.
+TEST(ImplicitLinearAlgebra, BlockCholeskyWorkOfADenseSystem)
+{
+	std::vector<std::pair<int, int>> pairs;
+	for (int i = 0; i < 4; ++i)
+		for (int j = i + 1; j < 4; ++j)
+			pairs.emplace_back(i, j);
+	BlockCholesky chol;
+	chol.analyse(4, pairs);
+	EXPECT_EQ(chol.offDiagonalBlocks(), 6u);
+	EXPECT_EQ(chol.factorisationWork(), 6.0 * (10 + 6));
+	EXPECT_EQ(chol.solveWork(), 2.0 * (4 + 6));
+}
+
 // A small network: a cluster of spheres with random bridges, one wall (prescribed), one sphere
 // with its z translation blocked.
 ImplicitViscousSystem randomSystem(std::mt19937& g, int spheres, double dt)

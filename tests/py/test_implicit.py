@@ -195,4 +195,4 @@ def test_solver_parameters_are_validated():
     for name, value in (('tolerance', 0.0), ('tolerance', 1.5), ('maxIterations', 0), ('preconditioner', 'ilu')):
         with pytest.raises(ValueError, match=name):
             setattr(s, name, value)
-    assert (s.tolerance, s.maxIterations, s.preconditioner, s.refreshIterations) == (1e-6, 500, 'cholesky', 4)  # the defaults, unchanged
+    assert (s.tolerance, s.maxIterations, s.preconditioner, s.refreshIterations) == (1e-6, 500, 'cholesky', 12)  # the defaults, unchanged

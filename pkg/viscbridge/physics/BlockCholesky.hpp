@@ -131,6 +131,7 @@ public:
 		columnStructure(below);
 		rowStructure();
 		placePairs(pairs);
+		countUpdates();
 		lower_.assign(rows_.size(), Mat6::Zero());
 		transposed_.assign(rows_.size(), Mat6::Zero());
 		inverseDiagonal_.assign(n, Mat6::Zero());
@@ -168,6 +169,11 @@ public:
 		x.resize(6 * size());
 		solve(b, x, identity_);
 	}
+
+	// The work of one factorisation and of one solve, in 6×6 block × 6-vector products (a block update
+	// is six of them): what the implicit solver weighs to decide when a refresh pays.
+	double factorisationWork() const { return 6.0 * static_cast<double>(updates_ + rows_.size()); }
+	double solveWork() const { return 2.0 * static_cast<double>(order_.size() + rows_.size()); }
 
 	bool   factorised() const { return factorised_; }
 	int    size() const { return static_cast<int>(order_.size()); }
@@ -434,6 +440,15 @@ private:
 		return true;
 	}
 
+	// The block updates C −= A Bᵀ of a factorisation: per block (j, k) of L, one on the diagonal block
+	// of j and one per block below j in column k (factoriseColumn).
+	void countUpdates()
+	{
+		updates_ = 0;
+		for (size_t e = 0; e < rowEntry_.size(); ++e)
+			updates_ += static_cast<size_t>(columnStart_[rowColumn_[e] + 1] - rowEntry_[e]);
+	}
+
 	// X = L⁻¹ for the lower triangle L of `l`, by columns (Eigen's triangular solve takes its general,
 	// blocked path for a 6×6 and cost a fifth of the factorisation).
 	static void invertLower(const Mat6& l, Mat6& X)
@@ -462,6 +477,7 @@ private:
 	std::array<std::vector<int>, 2> where_;         // workspace per half: position of a row in the current column
 	mutable VecXd      work_;
 	mutable std::vector<int> identity_;            // blockOf for a plain solve
+	size_t             updates_  = 0; // block updates of one factorisation
 	bool               analysed_ = false, factorised_ = false;
 };
 

@@ -452,6 +452,16 @@ public:
 		return factor_.factorise(A);
 	}
 	bool matches(size_t size) const { return factor_.factorised() && size_ == size; }
+	// A refresh's cost in CG iterations of a system of `bridges` bridges: the factorisation and the
+	// assembly against one iteration (two sweeps and a product), counted in block × vector products
+	// from the factor's structure, so that the decision is the same on every run.  Per bridge, the
+	// assembly costs about 25 and a product 5 of them, and a block update of the factorisation runs
+	// at about 2/3 the cost of a sweep's (wall time on the settling bed, docs/performance.md §2).
+	double refreshCost(size_t bridges) const
+	{
+		const double b = static_cast<double>(bridges);
+		return ((2.0 / 3.0) * factor_.factorisationWork() + 25 * b) / (factor_.solveWork() + 5 * b);
+	}
 	void apply(const VecXd& r, VecXd& z) const override
 	{
 		if (z.size() != r.size()) z.setZero(r.size());
