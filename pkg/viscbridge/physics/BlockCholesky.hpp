@@ -43,12 +43,15 @@ namespace block {
 	typedef double Lanes2 __attribute__((vector_size(16)));
 	// (By reference: a 32-byte vector passed by value outside AVX code would change the ABI.)
 	template <class Lanes> VISCBRIDGE_ALWAYS_INLINE void load(Lanes& v, const double* p) { __builtin_memcpy(&v, p, sizeof v); }
-	template <class Lanes> VISCBRIDGE_ALWAYS_INLINE void subtractFrom(double* p, const Lanes& v)
+	// p = v (assign) or p −= v
+	template <bool assign, class Lanes> VISCBRIDGE_ALWAYS_INLINE void storeTo(double* p, const Lanes& v)
 	{
-		Lanes old;
-		load(old, p);
-		old -= v;
-		__builtin_memcpy(p, &old, sizeof old);
+		Lanes out = v;
+		if constexpr (!assign) {
+			load(out, p);
+			out -= v;
+		}
+		__builtin_memcpy(p, &out, sizeof out);
 	}
 	// acc = (first) or += the Lanes-wide part of a column starting at `column`, times y_c
 	template <class Lanes, bool first> VISCBRIDGE_ALWAYS_INLINE void accumulate(Lanes& acc, const double* column, double yc)
@@ -59,8 +62,8 @@ namespace block {
 		else acc += v * yc;
 	}
 
-	// s −= B y
-	template <bool Wide> VISCBRIDGE_ALWAYS_INLINE void subtractProduct(double* __restrict s, const double* __restrict B, const double* __restrict y)
+	// s = B y (assign) or s −= B y
+	template <bool Wide, bool assign> VISCBRIDGE_ALWAYS_INLINE void productTo(double* __restrict s, const double* __restrict B, const double* __restrict y)
 	{
 		if constexpr (Wide) {
 			Lanes4 a;
@@ -71,8 +74,8 @@ namespace block {
 				accumulate<Lanes4, false>(a, B + 6 * c, y[c]);
 				accumulate<Lanes2, false>(b, B + 6 * c + 4, y[c]);
 			}
-			subtractFrom(s, a);
-			subtractFrom(s + 4, b);
+			storeTo<assign>(s, a);
+			storeTo<assign>(s + 4, b);
 		} else {
 			Lanes2 a[3];
 			for (int h = 0; h < 3; ++h)
@@ -81,17 +84,21 @@ namespace block {
 				for (int h = 0; h < 3; ++h)
 					accumulate<Lanes2, false>(a[h], B + 6 * c + 2 * h, y[c]);
 			for (int h = 0; h < 3; ++h)
-				subtractFrom(s + 2 * h, a[h]);
+				storeTo<assign>(s + 2 * h, a[h]);
 		}
 	}
-	// C −= A Bᵀ, column by column: C's column c takes A times B's row c.
-	template <bool Wide> VISCBRIDGE_ALWAYS_INLINE void subtractOuter(double* __restrict C, const double* __restrict A, const double* __restrict B)
+	template <bool Wide> VISCBRIDGE_ALWAYS_INLINE void subtractProduct(double* __restrict s, const double* B, const double* y) { productTo<Wide, false>(s, B, y); }
+	template <bool Wide> VISCBRIDGE_ALWAYS_INLINE void product(double* __restrict s, const double* B, const double* y) { productTo<Wide, true>(s, B, y); }
+	// C = A Bᵀ (assign) or C −= A Bᵀ, column by column: C's column c takes A times B's row c.
+	template <bool Wide, bool assign> VISCBRIDGE_ALWAYS_INLINE void outerTo(double* __restrict C, const double* __restrict A, const double* __restrict B)
 	{
 		for (int c = 0; c < 6; ++c) {
 			const double row[6] = { B[c], B[6 + c], B[12 + c], B[18 + c], B[24 + c], B[30 + c] };
-			subtractProduct<Wide>(C + 6 * c, A, row);
+			productTo<Wide, assign>(C + 6 * c, A, row);
 		}
 	}
+	template <bool Wide> VISCBRIDGE_ALWAYS_INLINE void subtractOuter(double* __restrict C, const double* A, const double* B) { outerTo<Wide, false>(C, A, B); }
+	template <bool Wide> VISCBRIDGE_ALWAYS_INLINE void outer(double* __restrict C, const double* A, const double* B) { outerTo<Wide, true>(C, A, B); }
 }
 
 // A symmetric matrix of 6×6 blocks: the diagonal blocks and, for each pair (i, j) with i < j, the block
@@ -245,12 +252,7 @@ private:
 				s[r] = b[6 * blockOf[order_[j]] + r];
 			for (int e = rowStart_[j]; e < rowStart_[j + 1]; ++e)
 				block::subtractProduct<Wide>(s, lower_[rowEntry_[e]].data(), y + 6 * rowColumn_[e]);
-			double* yj = y + 6 * j;
-			for (int r = 0; r < 6; ++r)
-				yj[r] = 0;
-			block::subtractProduct<Wide>(yj, inverseDiagonal_[j].data(), s); // −L_jj⁻¹ s
-			for (int r = 0; r < 6; ++r)
-				yj[r] = -yj[r];
+			block::product<Wide>(y + 6 * j, inverseDiagonal_[j].data(), s); // L_jj⁻¹ s
 		}
 	}
 
@@ -266,11 +268,9 @@ private:
 			for (int q = columnStart_[j]; q < columnStart_[j + 1]; ++q)
 				block::subtractProduct<Wide>(s, transposed_[q].data(), y + 6 * rows_[q]);
 			double* yj = y + 6 * j;
+			block::product<Wide>(yj, inverseDiagonalTransposed_[j].data(), s); // L_jj⁻ᵀ s
 			for (int r = 0; r < 6; ++r)
-				yj[r] = 0;
-			block::subtractProduct<Wide>(yj, inverseDiagonalTransposed_[j].data(), s); // −L_jj⁻ᵀ s
-			for (int r = 0; r < 6; ++r)
-				x[6 * blockOf[order_[j]] + r] = yj[r] = -yj[r];
+				x[6 * blockOf[order_[j]] + r] = yj[r];
 		}
 	}
 
@@ -432,9 +432,8 @@ private:
 		if (llt.info() != Eigen::Success) return false;
 		invertLower(llt.matrixLLT(), inverseDiagonal_[j]);
 		for (int q = columnStart_[j]; q < columnStart_[j + 1]; ++q) {
-			Mat6 minus = Mat6::Zero(); // −L_qj = −A_qj L_jj⁻ᵀ
-			block::subtractOuter<Wide>(minus.data(), lower_[q].data(), inverseDiagonal_[j].data());
-			lower_[q] = -minus;
+			const Mat6 a = lower_[q]; // L_qj = A_qj L_jj⁻ᵀ
+			block::outer<Wide>(lower_[q].data(), a.data(), inverseDiagonal_[j].data());
 			where[rows_[q]] = -1;
 		}
 		return true;
