@@ -9,6 +9,7 @@
 #include <pkg/dem/NewtonIntegrator.hpp>
 #include <pkg/dem/ScGeom.hpp>
 #include <algorithm>
+#include <array>
 #include <chrono>
 
 namespace yade {
@@ -115,45 +116,76 @@ const NewtonIntegrator& ViscBridgeImplicitSolver::checkScene()
 }
 
 // The bridges the law described this step, and the bodies they touch with every other force of the
-// step (gravity included, as Newton will add it).
+// step (gravity included, as Newton will add it).  The scans run on all threads; every list comes
+// out in the same order as from one thread.
 ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const NewtonIntegrator& newton)
 {
 	scene->forces.sync();
 	Gathered g;
+	describedBridges(g);
 	touched.assign(scene->bodies->size(), -1);
-	const int vbIndex = ViscBridgePhys::getClassIndexStatic();
-	for (const auto& I : *scene->interactions) {
-		if (!I->isReal() || I->phys->getClassIndex() != vbIndex) continue;
-		auto* ph = static_cast<ViscBridgePhys*>(I->phys.get());
-		if (!ph->bridge || !ph->implicitBlock.valid || ph->implicitBlockIter != scene->iter) continue;
-		g.described.push_back(I.get());
-		g.owners.push_back(ph);
+	for (const Interaction* I : g.described)
 		touched[I->getId1()] = touched[I->getId2()] = 0;
-	}
-	const auto own = distributed::ownership(scene); // [MPI] a rank solves for its own bodies
 	for (Body::id_t id = 0; id < static_cast<Body::id_t>(touched.size()); ++id) {
 		if (touched[id] < 0) continue;
-		touched[id] = static_cast<int>(g.bodies.size());
 		const Body& b = *Body::byId(id, scene);
-		g.bodies.push_back(systemBody(b, own.body(b), newton.gravity));
+		if (b.isClumpMember())
+			throw std::invalid_argument("ViscBridgeImplicitSolver: body #" + std::to_string(b.id) + " is a member of clump #" + std::to_string(b.clumpId)
+			                            + ", and clumps are not integrated implicitly (a member moves with its clump); use integration='explicit' for scenes with clumps.");
+		touched[id] = static_cast<int>(g.ids.size());
 		g.ids.push_back(id);
-		long freeBits = 0;
-		for (int d = 0; d < 6; ++d)
-			freeBits |= g.bodies.back().free[d] ? (1L << d) : 0;
-		g.pattern.push_back(id * 64 + freeBits);
 	}
-	g.system.reserve(g.described.size());
-	for (size_t k = 0; k < g.described.size(); ++k) {
-		const Interaction* I = g.described[k];
-		vb::SystemBridge   c;
-		c.body1    = touched[I->getId1()];
-		c.body2    = touched[I->getId2()];
-		c.block    = g.owners[k]->implicitBlock;
-		c.shiftVel = scene->isPeriodic ? Vector3r(scene->cell->intrShiftVel(I->cellDist)) : Vector3r::Zero();
-		g.system.push_back(c);
-		g.pattern.push_back(-(static_cast<long>(std::min(c.body1, c.body2)) * (1L << 31) + std::max(c.body1, c.body2)) - 1);
+	const long nBodies = static_cast<long>(g.ids.size()), nBridges = static_cast<long>(g.described.size());
+	g.bodies.resize(nBodies);
+	g.system.resize(nBridges);
+	g.pattern.resize(nBodies + nBridges);
+	const auto own = distributed::ownership(scene); // [MPI] a rank solves for its own bodies
+#pragma omp parallel
+	{
+#pragma omp for schedule(static)
+		for (long i = 0; i < nBodies; ++i) {
+			const Body& b = *Body::byId(g.ids[i], scene);
+			g.bodies[i]   = systemBody(b, own.body(b), newton.gravity);
+			long freeBits = 0;
+			for (int d = 0; d < 6; ++d)
+				freeBits |= g.bodies[i].free[d] ? (1L << d) : 0;
+			g.pattern[i] = g.ids[i] * 64 + freeBits;
+		}
+#pragma omp for schedule(static)
+		for (long k = 0; k < nBridges; ++k) {
+			const Interaction* I = g.described[k];
+			vb::SystemBridge&  c = g.system[k];
+			c.body1              = touched[I->getId1()];
+			c.body2              = touched[I->getId2()];
+			c.block              = g.owners[k]->implicitBlock;
+			c.shiftVel           = scene->isPeriodic ? Vector3r(scene->cell->intrShiftVel(I->cellDist)) : Vector3r::Zero();
+			g.pattern[nBodies + k] = -(static_cast<long>(std::min(c.body1, c.body2)) * (1L << 31) + std::max(c.body1, c.body2)) - 1;
+		}
 	}
 	return g;
+}
+
+// The bridges the law described this step, in the interactions' order: tested on all threads,
+// collected in order.
+void ViscBridgeImplicitSolver::describedBridges(Gathered& g) const
+{
+	InteractionContainer&       all     = *scene->interactions; // (its size() is not const)
+	const long                  n       = static_cast<long>(all.size());
+	const int                   vbIndex = ViscBridgePhys::getClassIndexStatic();
+	const long                  iter    = scene->iter;
+	std::vector<char>           described(n, 0);
+#pragma omp parallel for schedule(static)
+	for (long k = 0; k < n; ++k) {
+		const Interaction& I = *all[k];
+		if (!I.isReal() || I.phys->getClassIndex() != vbIndex) continue;
+		const auto& ph = static_cast<const ViscBridgePhys&>(*I.phys);
+		described[k]   = ph.bridge && ph.implicitBlock.valid && ph.implicitBlockIter == iter;
+	}
+	for (long k = 0; k < n; ++k)
+		if (described[k]) {
+			g.described.push_back(all[k].get());
+			g.owners.push_back(static_cast<ViscBridgePhys*>(all[k]->phys.get()));
+		}
 }
 
 vb::SystemBody ViscBridgeImplicitSolver::systemBody(const Body& b, bool owned, const Vector3r& gravity) const
@@ -164,9 +196,6 @@ vb::SystemBody ViscBridgeImplicitSolver::systemBody(const Body& b, bool owned, c
 	sb.inertia = st.inertia[0];
 	sb.vel     = st.vel;
 	sb.angVel  = st.angVel;
-	if (b.isClumpMember())
-		throw std::invalid_argument("ViscBridgeImplicitSolver: body #" + std::to_string(b.id) + " is a member of clump #" + std::to_string(b.clumpId)
-		                            + ", and clumps are not integrated implicitly (a member moves with its clump); use integration='explicit' for scenes with clumps.");
 	const bool moves = b.isDynamic() && st.mass > 0 && owned; // [MPI] other ranks' bodies: ghosts (prescribed here)
 	for (int d = 0; d < 6; ++d)
 		sb.free[d] = moves && !(st.blockedDOFs & State::axisDOF(d % 3, d >= 3));
@@ -267,27 +296,19 @@ void ViscBridgeImplicitSolver::solve(const vb::ImplicitViscousSystem& sys, const
 void ViscBridgeImplicitSolver::applyForces(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
                                            const std::vector<vb::BridgeResistance>& R)
 {
-	const size_t          nBodies = ids.size();
-	std::vector<Vector3r> reactF(nBodies, Vector3r::Zero()), reactT(nBodies, Vector3r::Zero());
-	for (size_t k = 0; k < R.size(); ++k) {
-		const vb::SystemBridge& c = sys.bridges()[k];
-		reactF[c.body1] -= R[k].force1;
-		reactT[c.body1] -= R[k].torque1;
-		reactF[c.body2] -= R[k].force2;
-		reactT[c.body2] -= R[k].torque2;
-	}
+	const long nBodies = static_cast<long>(ids.size());
 	if (warmStart) {
 		lastViscousForce.resize(scene->bodies->size(), Vector3r::Zero());
 		lastViscousTorque.resize(scene->bodies->size(), Vector3r::Zero());
-		for (size_t i = 0; i < nBodies; ++i) {
-			lastViscousForce[ids[i]]  = reactF[i];
-			lastViscousTorque[ids[i]] = reactT[i];
-		}
 	}
 	const Real dt = scene->dt;
-	for (size_t i = 0; i < nBodies; ++i) {
+#pragma omp parallel for schedule(static)
+	for (long i = 0; i < nBodies; ++i) {
 		const vb::SystemBody& b = sys.bodies()[i];
-		Vector3r              f = reactF[i], t = reactT[i];
+		Vector3r              f, t; // what the bridges exert: −(D v)
+		sys.resultantOn(i, R, f, t);
+		f = -f, t = -t;
+		if (warmStart) lastViscousForce[ids[i]] = f, lastViscousTorque[ids[i]] = t;
 		for (int d = 0; d < 3; ++d) {
 			if (b.free[d]) f[d] = b.mass * (x[6 * i + d] - b.vel[d]) / dt - b.force[d];
 			if (b.free[d + 3]) t[d] = b.inertia * (x[6 * i + 3 + d] - b.angVel[d]) / dt - b.torque[d];
@@ -304,10 +325,12 @@ void ViscBridgeImplicitSolver::bookEnergy(const vb::ImplicitViscousSystem& sys, 
 {
 	const auto own = distributed::ownership(scene);
 	const Real dt  = scene->dt;
-	Real       dissipN = 0, dissipT = 0, dissipR = 0;
-	bool       tangentialEffect = false;
-	const Eigen::VectorXd v0    = scene->trackEnergy ? sys.currentVelocities() : Eigen::VectorXd(); // the work needs the step's start
-	for (size_t k = 0; k < R.size(); ++k) {
+	const long m   = static_cast<long>(R.size());
+	const Eigen::VectorXd v0 = scene->trackEnergy ? sys.currentVelocities() : Eigen::VectorXd(); // the work needs the step's start
+	std::vector<std::array<Real, 3>> work(scene->trackEnergy ? m : 0, { 0, 0, 0 }); // per bridge: normal, sliding, rolling
+	std::vector<char>                tangential(work.size(), 0);
+#pragma omp parallel for schedule(static)
+	for (long k = 0; k < m; ++k) {
 		const vb::SystemBridge& c  = sys.bridges()[k];
 		const vb::ViscousBlock& bl = c.block;
 		ViscBridgePhys&         ph = *g.owners[k];
@@ -328,14 +351,16 @@ void ViscBridgeImplicitSolver::bookEnergy(const vb::ImplicitViscousSystem& sys, 
 		ph.normalForce -= normal; // YADE sense (sustained by body 2)
 		ph.shearForce -= ph.shearViscousForce;
 		if (scene->trackEnergy && own.interaction(*g.described[k], scene)) { // [MPI] a shared bridge is booked by one rank
-			tangentialEffect = tangentialEffect || bl.resistance.m11 != 0 || bl.resistance.m22 != 0;
-			const Real vn0   = kinematics(v0, u0, s0);
-			dissipN += bl.cn * vn1 * 0.5 * (vn1 + vn0) * dt;
+			tangential[k]            = bl.resistance.m11 != 0 || bl.resistance.m22 != 0;
+			const Real vn0           = kinematics(v0, u0, s0);
 			const vb::TangentialWork w = vb::tangentialWork(bl.resistance, u1, s1, u0, s0);
-			dissipT += w.sliding * dt;
-			dissipR += w.rolling * dt;
+			work[k]                  = { bl.cn * vn1 * 0.5 * (vn1 + vn0) * dt, w.sliding * dt, w.rolling * dt };
 		}
 	}
+	Real dissipN = 0, dissipT = 0, dissipR = 0; // summed in the bridges' order: the same on any number of threads
+	for (const auto& w : work)
+		dissipN += w[0], dissipT += w[1], dissipR += w[2];
+	const bool tangentialEffect = std::any_of(tangential.begin(), tangential.end(), [](char t) { return t != 0; });
 	if (scene->trackEnergy) {
 		pendingNormal         = dissipN;
 		pendingTangential     = dissipT;

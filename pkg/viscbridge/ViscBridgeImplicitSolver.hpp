@@ -29,6 +29,7 @@ class ViscBridgeImplicitSolver : public GlobalEngine {
 	const NewtonIntegrator&       checkScene();
 	void                          bookPendingWork();
 	Gathered                      gather(const NewtonIntegrator& newton);
+	void                          describedBridges(Gathered& g) const;
 	viscbridge::SystemBody        systemBody(const Body& b, bool owned, const Vector3r& gravity) const;
 	std::vector<int>              touched; // workspace of gather(): per body id, its index in the system (−1: none)
 	Eigen::VectorXd               warmStartGuess(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids) const;

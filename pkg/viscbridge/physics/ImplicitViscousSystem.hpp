@@ -170,17 +170,25 @@ public:
 #pragma omp for schedule(static)
 			for (long i = 0; i < n; ++i) {
 				const SystemBody& b = bodies_[i];
-				Vec3              f = Vec3::Zero(), t = Vec3::Zero();
-				for (int k = start_[i]; k < start_[i + 1]; ++k) {
-					const int               e = adjacent_[k];
-					const BridgeResistance& R = resistance_[e];
-					const bool              first = bridges_[e].body1 == i;
-					f += first ? R.force1 : R.force2;
-					t += first ? R.torque1 : R.torque2;
-				}
+				Vec3              f, t;
+				resultantOn(i, resistance_, f, t);
 				y.segment<3>(6 * i)     = b.mass * x.segment<3>(6 * i) + dt_ * f;
 				y.segment<3>(6 * i + 3) = b.inertia * x.segment<3>(6 * i + 3) + dt_ * t;
 			}
+		}
+	}
+
+	// The resistance D v of its bridges on body i (R: per bridge, from bridgeForces), summed in the
+	// order of its bridges, so that any number of threads gives the same sum.
+	void resultantOn(long i, const std::vector<BridgeResistance>& R, Vec3& force, Vec3& torque) const
+	{
+		force.setZero();
+		torque.setZero();
+		for (int k = start_[i]; k < start_[i + 1]; ++k) {
+			const int               e     = adjacent_[k];
+			const bool              first = bridges_[e].body1 == i;
+			force += first ? R[e].force1 : R[e].force2;
+			torque += first ? R[e].torque1 : R[e].torque2;
 		}
 	}
 
@@ -297,7 +305,9 @@ public:
 	std::vector<BridgeResistance> bridgeForces(const VecXd& x) const
 	{
 		std::vector<BridgeResistance> out(bridges_.size());
-		for (size_t k = 0; k < bridges_.size(); ++k) {
+		const long                    m = static_cast<long>(bridges_.size());
+#pragma omp parallel for schedule(static)
+		for (long k = 0; k < m; ++k) {
 			const SystemBridge& c = bridges_[k];
 			out[k] = bridgeResistance(c.block, x.segment<3>(6 * c.body1), x.segment<3>(6 * c.body1 + 3), x.segment<3>(6 * c.body2),
 			                          x.segment<3>(6 * c.body2 + 3), c.shiftVel);
