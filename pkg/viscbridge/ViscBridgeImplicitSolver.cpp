@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <limits>
 
 namespace yade {
 
@@ -61,6 +62,7 @@ void ViscBridgeImplicitSolver::bookPendingWork()
 struct ViscBridgeImplicitSolver::Gathered {
 	std::vector<Interaction*>    described; // the bridges, in the system's order
 	std::vector<ViscBridgePhys*> owners;
+	std::vector<std::array<Body::id_t, 2>> ends; // their bodies' ids
 	std::vector<Body::id_t>      ids; // the system's bodies, ordered by id (same bodies, same system)
 	std::vector<vb::SystemBody>  bodies;
 	std::vector<vb::SystemBridge> system;
@@ -124,27 +126,25 @@ ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const Newton
 	Gathered g;
 	describedBridges(g);
 	touched.assign(scene->bodies->size(), -1);
-	for (const Interaction* I : g.described)
-		touched[I->getId1()] = touched[I->getId2()] = 0;
-	for (Body::id_t id = 0; id < static_cast<Body::id_t>(touched.size()); ++id) {
-		if (touched[id] < 0) continue;
-		const Body& b = *Body::byId(id, scene);
-		if (b.isClumpMember())
-			throw std::invalid_argument("ViscBridgeImplicitSolver: body #" + std::to_string(b.id) + " is a member of clump #" + std::to_string(b.clumpId)
-			                            + ", and clumps are not integrated implicitly (a member moves with its clump); use integration='explicit' for scenes with clumps.");
-		touched[id] = static_cast<int>(g.ids.size());
-		g.ids.push_back(id);
-	}
+	for (const auto& [id1, id2] : g.ends)
+		touched[id1] = touched[id2] = 0;
+	for (Body::id_t id = 0; id < static_cast<Body::id_t>(touched.size()); ++id)
+		if (touched[id] >= 0) {
+			touched[id] = static_cast<int>(g.ids.size());
+			g.ids.push_back(id);
+		}
 	const long nBodies = static_cast<long>(g.ids.size()), nBridges = static_cast<long>(g.described.size());
 	g.bodies.resize(nBodies);
 	g.system.resize(nBridges);
 	g.pattern.resize(nBodies + nBridges);
-	const auto own = distributed::ownership(scene); // [MPI] a rank solves for its own bodies
+	const auto own     = distributed::ownership(scene); // [MPI] a rank solves for its own bodies
+	long       clumped = std::numeric_limits<long>::max(); // the first clump member, if any
 #pragma omp parallel
 	{
-#pragma omp for schedule(static)
+#pragma omp for schedule(static) reduction(min : clumped)
 		for (long i = 0; i < nBodies; ++i) {
 			const Body& b = *Body::byId(g.ids[i], scene);
+			if (b.isClumpMember()) clumped = std::min<long>(clumped, b.id);
 			g.bodies[i]   = systemBody(b, own.body(b), newton.gravity);
 			long freeBits = 0;
 			for (int d = 0; d < 6; ++d)
@@ -153,38 +153,43 @@ ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const Newton
 		}
 #pragma omp for schedule(static)
 		for (long k = 0; k < nBridges; ++k) {
-			const Interaction* I = g.described[k];
-			vb::SystemBridge&  c = g.system[k];
-			c.body1              = touched[I->getId1()];
-			c.body2              = touched[I->getId2()];
-			c.block              = g.owners[k]->implicitBlock;
-			c.shiftVel           = scene->isPeriodic ? Vector3r(scene->cell->intrShiftVel(I->cellDist)) : Vector3r::Zero();
+			vb::SystemBridge& c = g.system[k];
+			c.body1             = touched[g.ends[k][0]];
+			c.body2             = touched[g.ends[k][1]];
+			c.block             = g.owners[k]->implicitBlock;
+			c.shiftVel          = scene->isPeriodic ? Vector3r(scene->cell->intrShiftVel(g.described[k]->cellDist)) : Vector3r::Zero();
 			g.pattern[nBodies + k] = -(static_cast<long>(std::min(c.body1, c.body2)) * (1L << 31) + std::max(c.body1, c.body2)) - 1;
 		}
 	}
+	if (clumped != std::numeric_limits<long>::max())
+		throw std::invalid_argument("ViscBridgeImplicitSolver: body #" + std::to_string(clumped) + " is a member of clump #"
+		                            + std::to_string(Body::byId(clumped, scene)->clumpId)
+		                            + ", and clumps are not integrated implicitly (a member moves with its clump); use integration='explicit' for scenes with clumps.");
 	return g;
 }
 
-// The bridges the law described this step, in the interactions' order: tested on all threads,
-// collected in order.
+// The bridges the law described this step, in the interactions' order: tested on all threads
+// (following the pointers to each interaction and its physics is the cost), collected in order.
 void ViscBridgeImplicitSolver::describedBridges(Gathered& g) const
 {
-	InteractionContainer&       all     = *scene->interactions; // (its size() is not const)
-	const long                  n       = static_cast<long>(all.size());
-	const int                   vbIndex = ViscBridgePhys::getClassIndexStatic();
-	const long                  iter    = scene->iter;
-	std::vector<char>           described(n, 0);
+	InteractionContainer&                    all     = *scene->interactions; // (its size() is not const)
+	const long                               n       = static_cast<long>(all.size());
+	const int                                vbIndex = ViscBridgePhys::getClassIndexStatic();
+	const long                               iter    = scene->iter;
+	std::vector<ViscBridgePhys*>             bridgeOf(n, nullptr);
+	std::vector<std::array<Body::id_t, 2>>   ends(n);
 #pragma omp parallel for schedule(static)
 	for (long k = 0; k < n; ++k) {
 		const Interaction& I = *all[k];
 		if (!I.isReal() || I.phys->getClassIndex() != vbIndex) continue;
-		const auto& ph = static_cast<const ViscBridgePhys&>(*I.phys);
-		described[k]   = ph.bridge && ph.implicitBlock.valid && ph.implicitBlockIter == iter;
+		auto* ph = static_cast<ViscBridgePhys*>(I.phys.get());
+		if (ph->bridge && ph->implicitBlock.valid && ph->implicitBlockIter == iter) bridgeOf[k] = ph, ends[k] = { I.getId1(), I.getId2() };
 	}
 	for (long k = 0; k < n; ++k)
-		if (described[k]) {
+		if (bridgeOf[k]) {
 			g.described.push_back(all[k].get());
-			g.owners.push_back(static_cast<ViscBridgePhys*>(all[k]->phys.get()));
+			g.owners.push_back(bridgeOf[k]);
+			g.ends.push_back(ends[k]);
 		}
 }
 

@@ -129,13 +129,17 @@ public:
 			start_[i + 1] += start_[i];
 		adjacent_.resize(start_.back());
 		std::vector<int> fill(start_.begin(), start_.end() - 1);
-		anchored_.resize(bridges_.size());
-		loaded_.resize(bridges_.size());
 		for (size_t k = 0; k < bridges_.size(); ++k) {
 			adjacent_[fill[bridges_[k].body1]++] = static_cast<int>(k);
 			adjacent_[fill[bridges_[k].body2]++] = static_cast<int>(k);
-			anchored_[k]                         = isAnchored(bridges_[k].block);
-			loaded_[k] = !bridges_[k].shiftVel.isZero(0) || !allFree(bodies_[bridges_[k].body1]) || !allFree(bodies_[bridges_[k].body2]);
+		}
+		const long m = static_cast<long>(bridges_.size());
+		anchored_.resize(m);
+		loaded_.resize(m);
+#pragma omp parallel for schedule(static)
+		for (long k = 0; k < m; ++k) {
+			anchored_[k] = isAnchored(bridges_[k].block);
+			loaded_[k]   = !bridges_[k].shiftVel.isZero(0) || !allFree(bodies_[bridges_[k].body1]) || !allFree(bodies_[bridges_[k].body2]);
 		}
 	}
 
