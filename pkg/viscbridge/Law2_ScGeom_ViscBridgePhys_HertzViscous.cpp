@@ -108,14 +108,21 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::addEnergy(Real value, const char* 
 	scene->energy->add(value, name, index, reset);
 }
 
-void Law2_ScGeom_ViscBridgePhys_HertzViscous::noteFormed(Body::id_t id1, Body::id_t id2, const ViscBridgePhys& ph)
+Law2_ScGeom_ViscBridgePhys_HertzViscous::FormedBridge
+Law2_ScGeom_ViscBridgePhys_HertzViscous::formedRecord(Body::id_t id1, Body::id_t id2, const ViscBridgePhys& ph)
 {
 	const Real mobility = ph.mEff > 0 ? 1 / ph.mEff : 0;
+	return { id1, id2, ph.viscousStepCoefficient * mobility, ph.capillaryStiffness * mobility };
+}
+
+void Law2_ScGeom_ViscBridgePhys_HertzViscous::noteFormed(Body::id_t id1, Body::id_t id2, const ViscBridgePhys& ph)
+{
+	const FormedBridge record = formedRecord(id1, id2, ph);
 	// rare (a formation), so a critical section costs nothing that matters
 #ifdef YADE_OPENMP
 #pragma omp critical(viscbridge_formed)
 #endif
-	formed.push_back({ id1, id2, ph.viscousStepCoefficient * mobility, ph.capillaryStiffness * mobility });
+	formed.push_back(record);
 }
 
 std::vector<Law2_ScGeom_ViscBridgePhys_HertzViscous::FormedBridge> Law2_ScGeom_ViscBridgePhys_HertzViscous::takeFormed()

@@ -26,6 +26,7 @@ public:
 		Body::id_t id1, id2;
 		Real       damping, stiffness;
 	};
+	static FormedBridge       formedRecord(Body::id_t id1, Body::id_t id2, const ViscBridgePhys& ph);
 	bool                      recordFormations = false;
 	std::vector<FormedBridge> formed;
 	void                      noteFormed(Body::id_t id1, Body::id_t id2, const ViscBridgePhys& ph);

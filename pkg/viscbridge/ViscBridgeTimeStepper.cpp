@@ -58,6 +58,10 @@ void ViscBridgeTimeStepper::fullUpdate(Scene* sc)
 	bound.evaluate(sc, implicit, rayleighFraction);
 	agreeOnBounds(sc); // [MPI] the smallest over the ranks
 	network.gather(sc, !implicit);
+	// when most of the network is new since the last update (a bed wetted after loading, a sudden
+	// impact), the last mode says nothing about the new one, and a start from it can settle on a
+	// lesser mode: start cold, from the largest diagonal entries
+	if (2 * distributed::sum(sc, Real(changedBodies.size())) > distributed::sum(sc, Real(network.idOf.size()))) modeById.clear();
 	viscbridge::VecX mode;
 	network.modeFromIds(modeById, mode);
 	// where bridges formed since the last update, a new stiffest mode may be: into the start
@@ -105,8 +109,13 @@ void ViscBridgeTimeStepper::addFormedBridges(Scene* sc)
 	auto* law = const_cast<Law2_ScGeom_ViscBridgePhys_HertzViscous*>(findViscBridgeFunctors(sc).law);
 	if (!law) return;
 	law->recordFormations = true; // also after loading a scene (the flag is not saved)
+	correctForFormed(sc, law->takeFormed());
+}
+
+void ViscBridgeTimeStepper::correctForFormed(Scene* sc, const std::vector<Law2_ScGeom_ViscBridgePhys_HertzViscous::FormedBridge>& formed)
+{
 	const bool implicit = viscousImplicit();
-	for (const auto& f : law->takeFormed()) {
+	for (const auto& f : formed) {
 		const Real d = implicit ? 0 : f.damping, k = f.stiffness;
 		for (Body::id_t id : { f.id1, f.id2 }) {
 			const shared_ptr<Body>& b = Body::byId(id, sc);

@@ -2,6 +2,7 @@
 // (physics.md §7, P16–P18), bracketed by the rigorous bound P14 (§3).
 #pragma once
 #include "NetworkOfScene.hpp"
+#include "Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
 #include "NetworkTimeStepBound.hpp"
 #include <core/TimeStepper.hpp>
 
@@ -21,14 +22,16 @@ class ViscBridgeTimeStepper : public TimeStepper {
 	// [saved scenes] ViscBridgeTimeStepperState.cpp: the state unpacked from savedState when loading,
 	// used at the first step if the scene is still the one saved (its signature; 0: none)
 	size_t                        resumedSignature = 0;
+	std::vector<size_t>           savedBridges; // bridgeKeys() of the saved scene, sorted: the bridges the state knows
 	void                          restoreSavedState();
-	bool                          resumesSavedState(const Scene*);
+	bool                          resumesSavedState(Scene*);
 	Real lastValidSafety = 0.5, lastValidGrowth = 1.1, lastValidRayleigh = 0.4, lastValidMaxDt = 0, lastValidTolerance = 1e-3;
 	int  lastValidIterations = 30, lastValidInterval = 50;
 
 	bool viscousImplicit() const;
 	void fullUpdate(Scene*);
 	void addFormedBridges(Scene*); // the corrections between full updates
+	void correctForFormed(Scene*, const std::vector<Law2_ScGeom_ViscBridgePhys_HertzViscous::FormedBridge>&);
 	Real limitNow() const;         // the bracketed limit with the corrections [s]
 	void describeMode();
 	Real criticalShare = 0; // the largest share of a body in the mode
