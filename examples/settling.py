@@ -17,8 +17,8 @@
 #
 # The explicit runs are followed for the first 0.016 s, through the landing of the column and the
 # blow-ups; the implicit run until the particles are at rest (about 0.05 s, 6 000 steps).  Bringing
-# the explicit run 1 to rest as well takes over 700 000 steps (0.05 s at the stepper's ≈ 6e-8 s
-# once the bridges govern; the first 0.016 s alone take 179 000): --full does it.
+# the explicit run 1 to rest as well takes 832 000 steps (at rest at 0.052 s, the stepper at ≈ 5-6e-8 s
+# once the bridges govern; the first 0.016 s alone take 179 000): --full does it (about 6 min).
 # ViscBridgeGuard stops an unstable run when the kinetic energy exceeds what gravity has put in,
 # and names the body, the contact and the violated criterion; the summary prints its diagnosis.
 # Output: one CSV and one PNG per run, settling.png with the four histories, summary.txt.
