@@ -176,20 +176,20 @@ void ViscBridgeImplicitSolver::describedBridges(Gathered& g) const
 	const long                               n       = static_cast<long>(all.size());
 	const int                                vbIndex = ViscBridgePhys::getClassIndexStatic();
 	const long                               iter    = scene->iter;
-	std::vector<ViscBridgePhys*>             bridgeOf(n, nullptr);
-	std::vector<std::array<Body::id_t, 2>>   ends(n);
+	bridgeOf.assign(n, nullptr);
+	endsOf.resize(n); // read only where bridgeOf is set
 #pragma omp parallel for schedule(static)
 	for (long k = 0; k < n; ++k) {
 		const Interaction& I = *all[k];
 		if (!I.isReal() || I.phys->getClassIndex() != vbIndex) continue;
 		auto* ph = static_cast<ViscBridgePhys*>(I.phys.get());
-		if (ph->bridge && ph->implicitBlock.valid && ph->implicitBlockIter == iter) bridgeOf[k] = ph, ends[k] = { I.getId1(), I.getId2() };
+		if (ph->bridge && ph->implicitBlock.valid && ph->implicitBlockIter == iter) bridgeOf[k] = ph, endsOf[k] = { I.getId1(), I.getId2() };
 	}
 	for (long k = 0; k < n; ++k)
 		if (bridgeOf[k]) {
 			g.described.push_back(all[k].get());
 			g.owners.push_back(bridgeOf[k]);
-			g.ends.push_back(ends[k]);
+			g.ends.push_back(endsOf[k]);
 		}
 }
 

@@ -1,6 +1,7 @@
 // ViscBridgeImplicitSolver: backward Euler for the viscous bridge forces over the whole contact
 // network (physics.md §4, P15), between InteractionLoop and NewtonIntegrator.
 #pragma once
+#include <array>
 #include <core/Body.hpp>
 #include <core/GlobalEngine.hpp>
 #include "physics/ImplicitViscousSystem.hpp"
@@ -9,6 +10,7 @@
 namespace yade {
 
 class NewtonIntegrator;
+class ViscBridgePhys;
 
 class ViscBridgeImplicitSolver : public GlobalEngine {
 	std::vector<Vector3r> lastViscousForce, lastViscousTorque; // per body id, for the warm start
@@ -32,6 +34,9 @@ class ViscBridgeImplicitSolver : public GlobalEngine {
 	void                          describedBridges(Gathered& g) const;
 	viscbridge::SystemBody        systemBody(const Body& b, bool owned, const Vector3r& gravity) const;
 	std::vector<int>              touched; // workspace of gather(): per body id, its index in the system (−1: none)
+	// workspace of describedBridges(): per interaction, its physics if it is a bridge described this step, and its bodies
+	mutable std::vector<ViscBridgePhys*>           bridgeOf;
+	mutable std::vector<std::array<Body::id_t, 2>> endsOf;
 	Eigen::VectorXd               warmStartGuess(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids) const;
 	const viscbridge::Preconditioner* refreshPreconditioner(const viscbridge::ImplicitViscousSystem& sys, const std::vector<long>& pattern);
 	void solve(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, Eigen::VectorXd& x, const viscbridge::Preconditioner* pre);
