@@ -242,7 +242,7 @@ void ViscBridgeGuard::checkEnergy()
 	const int culpritRank = distributedCulprit(culprit, most);
 	lastError = distributed::broadcast(scene, culpritRank, diagnose(culprit, what));
 	lastError = distributed::rankLabel(scene, culpritRank) + lastError;
-	LOG_ERROR(lastError);
+	// not logged here: YADE's ThreadRunner (or Python, for O.step()) prints the exception's text
 	throw std::runtime_error(lastError);
 }
 
@@ -254,14 +254,18 @@ std::string ViscBridgeGuard::safeStepAdvice(bool implicit, bool washino)
 	if (!(safe > 0) || !std::isfinite(safe)) {
 		msg << " No time step can be recommended: nothing in the current contacts bounds it.";
 	} else if (safe >= scene->dt) {
-		msg << " The time step dt = " << scene->dt << " s is already below ViscBridgeTimeStepper's choice for the current contacts (" << safe
-		    << " s at safety 0.5), so a smaller dt is not the remedy: "
+		msg << " The time step dt = " << scene->dt << " s is already below half the rigorous bound P14 of the current contacts (" << safe
+		    << " s), which guarantees stability, so a smaller dt is not the remedy: "
 		    << (washino ? "the gain is likely the tangential model's (see above)."
 		                : "look for energy put in from outside the bound (velocities or positions set between steps: call rebaseline() after "
 		                  "such a change; an engine or PyRunner that sets velocities).");
 	} else {
-		msg << " A safe dt for the current contacts: " << safe << " s (ViscBridgeTimeStepper, safety 0.5; "
-		    << (implicit ? "implicit viscous forces, collision bound only)." : "or use integration='implicit' to lift the viscous limit).");
+		// P14 is rigorous, so half of it is safe whatever the network; the stepper's spectral limit
+		// (physics.md §7) is usually larger, which is why it is named as the better remedy
+		msg << " A safe dt for the current contacts: " << safe << " s (half the rigorous bound P14; "
+		    << (implicit ? "implicit viscous forces: collision bound only)."
+		                 : "ViscBridgeTimeStepper sets dt from the live network's own limit, at least as high; or use "
+		                   "integration='implicit' to lift the viscous limit).");
 	}
 	return msg.str();
 }
