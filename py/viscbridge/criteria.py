@@ -464,6 +464,7 @@ def lattice_limit(radius, density, viscosity, coordination=12, *, s_min=None, s_
     'h' [s], 'pair_limit' (2 t_v of one bridge, P12) and 'network_bound' (P14), so the three can be
     compared: P14 ≤ h ≤ pair_limit."""
     import numpy as np
+    from scipy.optimize import brentq
     f = 'lattice_limit'
     r = positive(f, 'radius', radius, ' [m]')
     rho = positive(f, 'density', density, ' [kg/m³]')
@@ -487,35 +488,35 @@ def lattice_limit(radius, density, viscosity, coordination=12, *, s_min=None, s_
     bonds = [np.array(b, float) for b in LATTICE_BONDS[coordination]]
     blocks = [(b, _bond_block(b, cn, resistance, arm, arm), _bond_block(b, spring, (kt,) * 4, r, r)) for b in bonds]
 
-    def bloch(q):
-        """D̃(q), K̃(q): particle i is body 1 of its bond to i + b and body 2 of the one from i − b."""
-        D = np.zeros((6, 6), complex)
-        K = np.zeros((6, 6), complex)
-        for b, Bd, Bk in blocks:
-            phase = np.exp(1j * 2 * r * np.dot(q, b))
-            for B, out in ((Bd, D), (Bk, K)):
-                out += B[:6, :6] + B[:6, 6:] * phase + B[6:, 6:] + B[6:, :6] / phase
-        S = np.diag(scale)
-        return S @ D @ S, S @ K @ S
-
     qs = np.linspace(-math.pi / (2 * r), math.pi / (2 * r), q_points)
-    mats = [bloch(np.array([a, b, c])) for a in qs for b in qs for c in qs]
-    Ds, Ks = np.array([D for D, _ in mats]), np.array([K for _, K in mats])
+    q = np.stack(np.meshgrid(qs, qs, qs, indexing='ij'), axis=-1).reshape(-1, 3)
+    S = np.outer(scale, scale)
 
-    def lam(h):  # the top of the spectrum over every q at once
-        return np.linalg.eigvalsh(h * h * Ks + 2 * h * Ds).max()
-    hi = 1.0
-    while lam(hi) < 4:
-        hi *= 2
-    lo = hi
-    while lam(lo) >= 4:
-        lo /= 2
-    for _ in range(60):
-        mid = math.sqrt(lo * hi)
-        lo, hi = (mid, hi) if lam(mid) < 4 else (lo, mid)
+    def bloch(pick):
+        """D̃(q) or K̃(q) for every q: particle i is body 1 of its bond to i + b and body 2 of the one from i − b."""
+        out = np.zeros((len(q), 6, 6), complex)
+        for b, *maps in blocks:
+            B = maps[pick]
+            phase = np.exp(1j * 2 * r * (q @ b))[:, None, None]
+            out += B[:6, :6] + B[6:, 6:] + B[:6, 6:] * phase + B[6:, :6] / phase
+        return out * S
+    Ds, Ks = bloch(0), bloch(1)
+
+    def excess(h):  # the top of the spectrum over every q at once, minus 4
+        return np.linalg.eigvalsh(h * h * Ks + 2 * h * Ds).max() - 4
+
     d14 = coordination * viscous_step_coefficient(r, r, mu, smin, normal_model, tangential_model, volume) * 2 / m
     k14 = coordination * (spring + 3.5 * kt) * 2 / m
-    return dict(h=math.sqrt(lo * hi), pair_limit=pair_limit(m / 2, cn, spring), network_bound=network_limit(d14, k14))
+    p14 = network_limit(d14, k14)
+    # P14 is below the root (rigorous); the bracket is grown from it, then Brent's method
+    lo = p14 if math.isfinite(p14) else 1.0
+    while excess(lo) >= 0:
+        lo /= 2
+    hi = 2 * lo
+    while excess(hi) < 0:
+        lo, hi = hi, 2 * hi
+    h = brentq(excess, lo, hi, xtol=lo * 1e-13, rtol=1e-12)
+    return dict(h=h, pair_limit=pair_limit(m / 2, cn, spring), network_bound=p14)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -526,7 +527,8 @@ class Bound:
     """One time-step limit.
 
     kind: 'stability' (Δt above it diverges), 'design' (stable, but an approaching pair rebounds
-    spuriously above it) or 'info' (a time scale, not a limit).  regime: 'viscous' when the limit is
+    spuriously above it), 'sufficient' (a rigorous bound below a known stability limit: P14 when the
+    spectral limit of a lattice is in the table) or 'info' (a time scale, not a limit).  regime: 'viscous' when the limit is
     set by a bridge's viscous coefficient, 'collision' when by the dry contact; for the combined
     bounds (P13, P14) the part that dominates (viscous iff the dashpot-only limit is the smaller).
     """
@@ -593,9 +595,10 @@ class TimeStepCriteria:
                     p['normal_model'], p['tangential_model'], p['integration'], p['coordination'],
                     p['impact_velocity']))
         w = max(len(b.name) for b in self.bounds)
-        rows = ['  %-*s  %-10s  %-9s  %-9s  %s' % (w, 'bound', 'value [s]', 'kind', 'regime', 'formula')]
+        k = max(len('kind'), *(len(b.kind) for b in self.bounds))
+        rows = ['  %-*s  %-10s  %-*s  %-9s  %s' % (w, 'bound', 'value [s]', k, 'kind', 'regime', 'formula')]
         for b in self.bounds:
-            rows.append('  %-*s  %-10s  %-9s  %-9s  %s' % (w, b.name, '%.4g' % b.value, b.kind,
+            rows.append('  %-*s  %-10s  %-*s  %-9s  %s' % (w, b.name, '%.4g' % b.value, k, b.kind,
                                                            b.regime or '-', b.formula))
         tail = ['stability limit:  %.4g s  (governing: %s, regime: %s)' % (
                     self.stability_limit, self.governing, self.regime),
@@ -650,11 +653,20 @@ def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wal
     network              4/(d + √(d² + 4κ)), z contacts per particle              stability (P14)
     network_dashpot      2/d                                      stability  (P14)
     network_no_reversal  1/d                                      design     (P14)
+    network_spectral     h of λ_max(h²K̃ + 2hD̃) = 4 on a lattice     stability  (P18)
+    network_spectral_no_reversal  h/2                             design     (P18)
 
     with d = z (C^n + c_n + w_t (C_t + c_s))(1/m_i + 1/m_j), κ = z (k_n + 3.5 k_t)(1/m_i + 1/m_j),
     1/m_j = 0 for a wall, C_t = C_T (slip, goldman), max(C_T, C_R) (washino), 0 (none); w_t = 3.5,
     or 1 + 2.5 (1 + S_min/2r)² for slip (its torque arms reach the mid-gap point).  c_n, c_s are
     the contact dashpots of ``restitution`` < 1.
+
+    P14 is sufficient for any packing of coordination z, and 1.5–3× below the true limit of a real
+    one.  For equal spheres (no wall) with explicit bridges, ``coordination`` 6, 8 or 12 and neither
+    contact damping nor a capillary force, the table also has the true limit of the simple cubic,
+    bcc or fcc lattice (:func:`lattice_limit` with the springs k_n, k_t: what ViscBridgeTimeStepper
+    computes on such a packing); the P14 rows are then of kind 'sufficient' and the spectral rows
+    set ``stability_limit`` and ``no_rebound_limit``.
 
     ``integration='implicit'`` (P15: backward Euler for the bridges, unconditionally stable for the
     viscous part) drops every bound set by a bridge coefficient and uses C = 0 (bridges) in P13/P14.
@@ -793,14 +805,31 @@ def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wal
         bounds.append(Bound('capillary_spring', 2 * math.sqrt(m_eff / k_c), 'stability',
                             '2 sqrt(m*/k_c), k_c = max |dF/dS| of the capillary force (P22)', 'collision'))
     kappa = z * (k_n + 3.5 * k_t + k_c) * inv_m
+    # on a regular packing the spectral limit (P18) is the true one and P14 only a guarantee below it;
+    # lattice_limit models bridges and Hertz springs, not contact dashpots or capillary springs
+    spectral = (viscous_active and z in LATTICE_BONDS and r2 == r1 and not wall
+                and c_n_contact == 0 and k_c == 0)
+    p14_kind, p14_design = ('sufficient', 'sufficient') if spectral else ('stability', 'design')
+    network_regime = _regime(2 / d_bridge if d_bridge > 0 else math.inf, 2 / math.sqrt(kappa))
     bounds.append(Bound(
-        'network', network_limit(d, kappa), 'stability',
+        'network', network_limit(d, kappa), p14_kind,
         '4/(d + sqrt(d^2 + 4 kappa)), d = z(C_n + %s C_t)(1/m_i+1/m_j), kappa = z(k_n + 3.5 k_t)(1/m_i+1/m_j) (P14)'
-        % ('%.4g' % w_rot if tangential_model == 'slip' else '3.5'),
-        _regime(2 / d_bridge if d_bridge > 0 else math.inf, 2 / math.sqrt(kappa))))
+        % ('%.4g' % w_rot if tangential_model == 'slip' else '3.5'), network_regime))
     if viscous_active:
-        bounds += [Bound('network_dashpot', 2 / d, 'stability', '2/d (P14, dashpots only)', 'viscous'),
-                   Bound('network_no_reversal', 1 / d, 'design', '1/d (P14, no reversal)', 'viscous')]
+        bounds += [Bound('network_dashpot', 2 / d, p14_kind, '2/d (P14, dashpots only)', 'viscous'),
+                   Bound('network_no_reversal', 1 / d, p14_design, '1/d (P14, no reversal)', 'viscous')]
+    if spectral:
+        def spectral_limit(spring, tangential_spring):
+            return lattice_limit(r1, rho, mu, int(z), s_min=smin, bridge_volume=volume, normal_model=normal_model,
+                                 tangential_model=tangential_model, spring=spring,
+                                 tangential_spring=tangential_spring)['h']
+        lattice = {6: 'simple cubic', 8: 'bcc', 12: 'fcc'}[int(z)]
+        # as P14's 1/d, the no-reversal limit is the dashpots' alone: 1/lambda_max(D), half their limit
+        bounds += [Bound('network_spectral', spectral_limit(k_n, k_t), 'stability',
+                         'h: lambda_max(h^2 K + 2h D) = 4 on the %s lattice, every bond a bridge at S_min and a '
+                         'spring k_n, k_t (P18, as ViscBridgeTimeStepper on a live packing)' % lattice, network_regime),
+                   Bound('network_spectral_no_reversal', spectral_limit(0.0, 0.0) / 2, 'design',
+                         '1/lambda_max(D) on the lattice: half the dashpots\' limit (P17)', 'viscous')]
 
     parameters = dict(radius=r1, radius2=r2, wall=wall,
                       density=rho, young=e, poisson=nu, viscosity=mu, s_min=smin, bridge_volume=volume,

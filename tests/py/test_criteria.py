@@ -217,6 +217,33 @@ def test_p14_coordination_scaling():
     assert w.bound('network_dashpot').value == pytest.approx(2 * tv, rel=1e-14)
 
 
+
+def test_a_lattice_coordination_adds_its_spectral_limit_above_p14():
+    """coordination 6, 8, 12 of equal spheres: the table carries the lattice's own limit (P18, with
+    the contact springs), which governs; P14 stays as the rigorous guarantee below it, and the
+    no-rebound limit is half the dashpots' own limit (P17), as the stepper's safety 0.5."""
+    for z in (6, 8, 12):
+        c = C.critical_dt(R, RHO, E, NU, 1.0, coordination=z)
+        s_min, k_n, k_t = c.parameters['s_min'], c.derived['k_n'], c.derived['k_t']
+        lattice = C.lattice_limit(R, RHO, 1.0, z, s_min=s_min, spring=k_n, tangential_spring=k_t)
+        assert c.governing == 'network_spectral' and c.regime == 'viscous'
+        assert c.stability_limit == pytest.approx(lattice['h'], rel=1e-10)
+        p14 = c.bound('network')
+        assert p14.kind == 'sufficient' and p14.value == pytest.approx(lattice['network_bound'], rel=1e-12)
+        assert 1.5 * p14.value < c.stability_limit < c.bound('viscous_pair').value
+        dashpots = C.lattice_limit(R, RHO, 1.0, z, s_min=s_min)['h']
+        assert c.no_rebound_limit == pytest.approx(dashpots / 2, rel=1e-10)
+
+
+@pytest.mark.parametrize('kw', [dict(coordination=5), dict(coordination=6, restitution=0.5),
+                                dict(coordination=6, radius2=2 * R), dict(coordination=6, wall=True),
+                                dict(coordination=6, integration='implicit'),
+                                dict(coordination=6, capillary_model='willett', surface_tension=0.072)])
+def test_p14_remains_the_limit_where_no_lattice_spectrum_applies(kw):
+    c = C.critical_dt(R, RHO, E, NU, 1.0, **kw)
+    assert 'network_spectral' not in c.names() and c.bound('network').kind == 'stability'
+    assert all(b.kind != 'sufficient' for b in c.bounds)
+
 def _damping_system(radii, positions, contacts, model, s_min, mu=1.0):
     """Generalised damping matrix M⁻¹D of the bridges of a cluster (6 dof per sphere), built from
     the force laws of TangentialViscous.hpp / NormalViscous.hpp linearised at fixed geometry."""
