@@ -10,7 +10,7 @@
 # Stability: the scans' criterion (viscbridge.scenes.instability: kinetic energy above the released
 # potential energy plus the initial kinetic energy, or not finite), checked at every sample.
 #
-# Error measures, each relative to a reference run (explicit at a quarter of the P14 bound):
+# Error measures, each relative to a reference run (explicit at a quarter of the stepper's limit):
 #   e_x  RMS over the spheres of |x(T) - x_ref(T)|, divided by the RMS displacement of the
 #        reference over the run: how wrong the end state is, on the scale of how much it moved.
 #   e_K  sum over the 10 sample times (every T/10) of |K - K_ref|, divided by the sum of K_ref:
@@ -40,7 +40,7 @@ SAMPLES = 10
 TAU = T / SAMPLES
 PERTURBATION = 0.01
 LIQUID = dict(sMinRel=1e-3, normalModel='adamsPerchard', tangentialModel='slip')
-EXPLICIT_FACTORS = [0.5, 1, 2, 4, 8, 16]           # × the P14 bound (safety 1)
+EXPLICIT_FACTORS = [0.5, 1, 2, 4, 8, 16]           # × the stepper's limit (safety 1)
 IMPLICIT_STEPS_PER_SAMPLE = [2, 4, 16, 64, 256, 1024, 4096]  # Δt = T/10/k; k = 2 is 5e-6 s
 TIGHT = 1e-12  # CG tolerance of the twin of each implicit run: what the default tolerance adds
 
@@ -60,8 +60,9 @@ def prepare(mu, integration, stepper=False):
     O.trackEnergy = False
 
 
-def p14_bounds(mu):
-    """(combined, collision) P14 bound at safety 1 on the wetted bed [s]."""
+def stepper_limits(mu):
+    """(combined, collision) limit of ViscBridgeTimeStepper at safety 1 on the wetted bed [s]: the
+    spectral limit of the network (physics.md P18), 2.6× its rigorous floor P14 here."""
     prepare(mu, 'explicit', stepper=True)
     O.dt = 1e-12
     O.run(2, True)
@@ -131,8 +132,8 @@ def row(mu, integration, role, k, r, ref, tight=None):
 
 rows, summary = [], []
 for mu in viscosities:
-    bound, collision = p14_bounds(mu)
-    print('\nμ = %g Pa·s: P14 bound %.3e s (collision part %.3e s), reference Δt = bound/4' % (mu, bound, collision))
+    bound, collision = stepper_limits(mu)
+    print('\nμ = %g Pa·s: stepper limit %.3e s (collision part %.3e s), reference Δt = limit/4' % (mu, bound, collision))
     k_ref = steps_for(0.25 * bound)
     ref = run(mu, 'explicit', k_ref)
     assert not ref['why'], ref['why']
