@@ -425,6 +425,7 @@ def network_limit(d, kappa):
 # ------------------------------------------------------------------------------------------------
 # the spectral limit of a regular packing (physics.md §7, P16–P18)
 # ------------------------------------------------------------------------------------------------
+LATTICE_NAMES = {6: 'simple cubic', 8: 'bcc', 12: 'fcc'}  # the lattices by coordination z
 #: Bond vectors (one of each ± pair) of the Bravais lattices of equal touching spheres, in units of
 #: the sphere diameter: simple cubic (z = 6), body-centred cubic (z = 8), face-centred cubic (z = 12).
 LATTICE_BONDS = {
@@ -459,7 +460,7 @@ def lattice_limit(radius, density, viscosity, coordination=12, *, s_min=None, s_
     live network (P18, with its safety 1): the smallest h with λ_max(h²K̃ + 2hD̃) = 4, the spectrum
     taken over the Bloch waves of the lattice (a q grid of q_points³ in the Brillouin zone).
 
-    coordination: 6 (simple cubic), 8 (bcc) or 12 (fcc).  spring / tangential_spring [N/m]: an
+    coordination: one of LATTICE_NAMES: 6 (simple cubic), 8 (bcc) or 12 (fcc).  spring / tangential_spring [N/m]: an
     optional contact stiffness per bond (default: none, the viscous regime).  Returns a dict with
     'h' [s], 'pair_limit' (2 t_v of one bridge, P12) and 'network_bound' (P14), so the three can be
     compared: P14 ≤ h ≤ pair_limit."""
@@ -508,8 +509,10 @@ def lattice_limit(radius, density, viscosity, coordination=12, *, s_min=None, s_
     d14 = coordination * viscous_step_coefficient(r, r, mu, smin, normal_model, tangential_model, volume) * 2 / m
     k14 = coordination * (spring + 3.5 * kt) * 2 / m
     p14 = network_limit(d14, k14)
+    if not math.isfinite(p14):  # neither dashpots nor springs: nothing limits the step
+        return dict(h=math.inf, pair_limit=pair_limit(m / 2, cn, spring), network_bound=p14)
     # P14 is below the root (rigorous); the bracket is grown from it, then Brent's method
-    lo = p14 if math.isfinite(p14) else 1.0
+    lo = p14
     while excess(lo) >= 0:
         lo /= 2
     hi = 2 * lo
@@ -527,10 +530,11 @@ class Bound:
     """One time-step limit.
 
     kind: 'stability' (Δt above it diverges), 'design' (stable, but an approaching pair rebounds
-    spuriously above it), 'sufficient' (a rigorous bound below a known stability limit: P14 when the
-    spectral limit of a lattice is in the table) or 'info' (a time scale, not a limit).  regime: 'viscous' when the limit is
-    set by a bridge's viscous coefficient, 'collision' when by the dry contact; for the combined
-    bounds (P13, P14) the part that dominates (viscous iff the dashpot-only limit is the smaller).
+    spuriously above it), 'sufficient' (a rigorous bound below a limit the table has more exactly:
+    P14's stability and no-reversal rows when the spectral rows of a lattice are in the table) or 'info' (a time scale, not a limit).
+    regime: 'viscous' when the limit is set by a bridge's viscous coefficient, 'collision' when by
+    the dry contact; for the combined bounds (P13, P14) the part that dominates (viscous iff the
+    dashpot-only limit is the smaller).
     """
     name: str
     value: float
@@ -654,7 +658,7 @@ def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wal
     network_dashpot      2/d                                      stability  (P14)
     network_no_reversal  1/d                                      design     (P14)
     network_spectral     h of λ_max(h²K̃ + 2hD̃) = 4 on a lattice     stability  (P18)
-    network_spectral_no_reversal  h/2                             design     (P18)
+    network_spectral_no_reversal  1/λ_max(D̃) on the lattice      design     (P17)
 
     with d = z (C^n + c_n + w_t (C_t + c_s))(1/m_i + 1/m_j), κ = z (k_n + 3.5 k_t)(1/m_i + 1/m_j),
     1/m_j = 0 for a wall, C_t = C_T (slip, goldman), max(C_T, C_R) (washino), 0 (none); w_t = 3.5,
@@ -823,11 +827,11 @@ def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wal
             return lattice_limit(r1, rho, mu, int(z), s_min=smin, bridge_volume=volume, normal_model=normal_model,
                                  tangential_model=tangential_model, spring=spring,
                                  tangential_spring=tangential_spring)['h']
-        lattice = {6: 'simple cubic', 8: 'bcc', 12: 'fcc'}[int(z)]
         # as P14's 1/d, the no-reversal limit is the dashpots' alone: 1/lambda_max(D), half their limit
         bounds += [Bound('network_spectral', spectral_limit(k_n, k_t), 'stability',
                          'h: lambda_max(h^2 K + 2h D) = 4 on the %s lattice, every bond a bridge at S_min and a '
-                         'spring k_n, k_t (P18, as ViscBridgeTimeStepper on a live packing)' % lattice, network_regime),
+                         'spring k_n, k_t (P18, as ViscBridgeTimeStepper on a live packing)' % LATTICE_NAMES[int(z)],
+                         network_regime),
                    Bound('network_spectral_no_reversal', spectral_limit(0.0, 0.0) / 2, 'design',
                          '1/lambda_max(D) on the lattice: half the dashpots\' limit (P17)', 'viscous')]
 
