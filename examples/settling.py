@@ -49,9 +49,7 @@ if quick:
     case.update(n=40)
     max_duration = explicit_duration = 0.004
 
-# The planning numbers for this case (viscbridge.criteria works without YADE too).  With
-# coordination=6 the limit is that of a simple cubic packing, 1.38e-7 s, just below t_v = 1.39e-7 s:
-# why run 2 fails once the particles carry several bridges; P14 (4.6e-8 s) is its rigorous floor.
+# The planning numbers for this case (viscbridge.criteria works without YADE too).
 plan = criteria.critical_dt(case['radius'], case['density'], case['young'], case['poisson'], case['viscosity'],
                             s_min_rel=case['sMinRel'], tangential_model=case['tangentialModel'], coordination=6)
 t_v = criteria.viscous_decay_time(case['radius'], case['density'], case['viscosity'],

@@ -425,7 +425,6 @@ def network_limit(d, kappa):
 # ------------------------------------------------------------------------------------------------
 # the spectral limit of a regular packing (physics.md §7, P16–P18)
 # ------------------------------------------------------------------------------------------------
-LATTICE_NAMES = {6: 'simple cubic', 8: 'bcc', 12: 'fcc'}  # the lattices by coordination z
 #: Bond vectors (one of each ± pair) of the Bravais lattices of equal touching spheres, in units of
 #: the sphere diameter: simple cubic (z = 6), body-centred cubic (z = 8), face-centred cubic (z = 12).
 LATTICE_BONDS = {
@@ -460,10 +459,16 @@ def lattice_limit(radius, density, viscosity, coordination=12, *, s_min=None, s_
     live network (P18, with its safety 1): the smallest h with λ_max(h²K̃ + 2hD̃) = 4, the spectrum
     taken over the Bloch waves of the lattice (a q grid of q_points³ in the Brillouin zone).
 
-    coordination: one of LATTICE_NAMES: 6 (simple cubic), 8 (bcc) or 12 (fcc).  spring / tangential_spring [N/m]: an
+    coordination: 6 (simple cubic), 8 (bcc) or 12 (fcc).  spring / tangential_spring [N/m]: an
     optional contact stiffness per bond (default: none, the viscous regime).  Returns a dict with
     'h' [s], 'pair_limit' (2 t_v of one bridge, P12) and 'network_bound' (P14), so the three can be
-    compared: P14 ≤ h ≤ pair_limit."""
+    compared: P14 ≤ h ≤ pair_limit.
+
+    The limit of a perfect lattice, not a planning value for a random bed: the study's wetted random
+    bed (μ = 1 Pa·s, z = 4.5) was measured unstable above 1.016e-7 s, below this function's
+    1.376e-7 s for the simple cubic lattice (z = 6) of the same spheres — a random bed's top mode
+    is local, on a cluster stiffer than its mean coordination.  Plan with :func:`critical_dt`
+    (P14, rigorous) and let ViscBridgeTimeStepper find a live bed's own limit."""
     import numpy as np
     from scipy.optimize import brentq
     f = 'lattice_limit'
@@ -530,11 +535,9 @@ class Bound:
     """One time-step limit.
 
     kind: 'stability' (Δt above it diverges), 'design' (stable, but an approaching pair rebounds
-    spuriously above it), 'sufficient' (a rigorous bound below a limit the table has more exactly:
-    P14's stability and no-reversal rows when the spectral rows of a lattice are in the table) or 'info' (a time scale, not a limit).
-    regime: 'viscous' when the limit is set by a bridge's viscous coefficient, 'collision' when by
-    the dry contact; for the combined bounds (P13, P14) the part that dominates (viscous iff the
-    dashpot-only limit is the smaller).
+    spuriously above it) or 'info' (a time scale, not a limit).  regime: 'viscous' when the limit is
+    set by a bridge's viscous coefficient, 'collision' when by the dry contact; for the combined
+    bounds (P13, P14) the part that dominates (viscous iff the dashpot-only limit is the smaller).
     """
     name: str
     value: float
@@ -599,10 +602,9 @@ class TimeStepCriteria:
                     p['normal_model'], p['tangential_model'], p['integration'], p['coordination'],
                     p['impact_velocity']))
         w = max(len(b.name) for b in self.bounds)
-        k = max(len('kind'), *(len(b.kind) for b in self.bounds))
-        rows = ['  %-*s  %-10s  %-*s  %-9s  %s' % (w, 'bound', 'value [s]', k, 'kind', 'regime', 'formula')]
+        rows = ['  %-*s  %-10s  %-9s  %-9s  %s' % (w, 'bound', 'value [s]', 'kind', 'regime', 'formula')]
         for b in self.bounds:
-            rows.append('  %-*s  %-10s  %-*s  %-9s  %s' % (w, b.name, '%.4g' % b.value, k, b.kind,
+            rows.append('  %-*s  %-10s  %-9s  %-9s  %s' % (w, b.name, '%.4g' % b.value, b.kind,
                                                            b.regime or '-', b.formula))
         tail = ['stability limit:  %.4g s  (governing: %s, regime: %s)' % (
                     self.stability_limit, self.governing, self.regime),
@@ -657,20 +659,11 @@ def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wal
     network              4/(d + √(d² + 4κ)), z contacts per particle              stability (P14)
     network_dashpot      2/d                                      stability  (P14)
     network_no_reversal  1/d                                      design     (P14)
-    network_spectral     h of λ_max(h²K̃ + 2hD̃) = 4 on a lattice     stability  (P18)
-    network_spectral_no_reversal  1/λ_max(D̃) on the lattice      design     (P17)
 
     with d = z (C^n + c_n + w_t (C_t + c_s))(1/m_i + 1/m_j), κ = z (k_n + 3.5 k_t)(1/m_i + 1/m_j),
     1/m_j = 0 for a wall, C_t = C_T (slip, goldman), max(C_T, C_R) (washino), 0 (none); w_t = 3.5,
     or 1 + 2.5 (1 + S_min/2r)² for slip (its torque arms reach the mid-gap point).  c_n, c_s are
     the contact dashpots of ``restitution`` < 1.
-
-    P14 is sufficient for any packing of coordination z, and 1.5–3× below the true limit of a real
-    one.  For equal spheres (no wall) with explicit bridges, ``coordination`` 6, 8 or 12 and neither
-    contact damping nor a capillary force, the table also has the true limit of the simple cubic,
-    bcc or fcc lattice (:func:`lattice_limit` with the springs k_n, k_t: what ViscBridgeTimeStepper
-    computes on such a packing); the P14 rows are then of kind 'sufficient' and the spectral rows
-    set ``stability_limit`` and ``no_rebound_limit``.
 
     ``integration='implicit'`` (P15: backward Euler for the bridges, unconditionally stable for the
     viscous part) drops every bound set by a bridge coefficient and uses C = 0 (bridges) in P13/P14.
@@ -809,31 +802,14 @@ def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wal
         bounds.append(Bound('capillary_spring', 2 * math.sqrt(m_eff / k_c), 'stability',
                             '2 sqrt(m*/k_c), k_c = max |dF/dS| of the capillary force (P22)', 'collision'))
     kappa = z * (k_n + 3.5 * k_t + k_c) * inv_m
-    # on a regular packing the spectral limit (P18) is the true one and P14 only a guarantee below it;
-    # lattice_limit models bridges and Hertz springs, not contact dashpots or capillary springs
-    spectral = (viscous_active and z in LATTICE_BONDS and r2 == r1 and not wall
-                and c_n_contact == 0 and k_c == 0)
-    p14_kind, p14_design = ('sufficient', 'sufficient') if spectral else ('stability', 'design')
-    network_regime = _regime(2 / d_bridge if d_bridge > 0 else math.inf, 2 / math.sqrt(kappa))
     bounds.append(Bound(
-        'network', network_limit(d, kappa), p14_kind,
+        'network', network_limit(d, kappa), 'stability',
         '4/(d + sqrt(d^2 + 4 kappa)), d = z(C_n + %s C_t)(1/m_i+1/m_j), kappa = z(k_n + 3.5 k_t)(1/m_i+1/m_j) (P14)'
-        % ('%.4g' % w_rot if tangential_model == 'slip' else '3.5'), network_regime))
+        % ('%.4g' % w_rot if tangential_model == 'slip' else '3.5'),
+        _regime(2 / d_bridge if d_bridge > 0 else math.inf, 2 / math.sqrt(kappa))))
     if viscous_active:
-        bounds += [Bound('network_dashpot', 2 / d, p14_kind, '2/d (P14, dashpots only)', 'viscous'),
-                   Bound('network_no_reversal', 1 / d, p14_design, '1/d (P14, no reversal)', 'viscous')]
-    if spectral:
-        def spectral_limit(spring, tangential_spring):
-            return lattice_limit(r1, rho, mu, int(z), s_min=smin, bridge_volume=volume, normal_model=normal_model,
-                                 tangential_model=tangential_model, spring=spring,
-                                 tangential_spring=tangential_spring)['h']
-        # as P14's 1/d, the no-reversal limit is the dashpots' alone: 1/lambda_max(D), half their limit
-        bounds += [Bound('network_spectral', spectral_limit(k_n, k_t), 'stability',
-                         'h: lambda_max(h^2 K + 2h D) = 4 on the %s lattice, every bond a bridge at S_min and a '
-                         'spring k_n, k_t (P18, as ViscBridgeTimeStepper on a live packing)' % LATTICE_NAMES[int(z)],
-                         network_regime),
-                   Bound('network_spectral_no_reversal', spectral_limit(0.0, 0.0) / 2, 'design',
-                         '1/lambda_max(D) on the lattice: half the dashpots\' limit (P17)', 'viscous')]
+        bounds += [Bound('network_dashpot', 2 / d, 'stability', '2/d (P14, dashpots only)', 'viscous'),
+                   Bound('network_no_reversal', 1 / d, 'design', '1/d (P14, no reversal)', 'viscous')]
 
     parameters = dict(radius=r1, radius2=r2, wall=wall,
                       density=rho, young=e, poisson=nu, viscosity=mu, s_min=smin, bridge_volume=volume,

@@ -218,31 +218,27 @@ def test_p14_coordination_scaling():
 
 
 
-def test_a_lattice_coordination_adds_its_spectral_limit_above_p14():
-    """coordination 6, 8, 12 of equal spheres: the table carries the lattice's own limit (P18, with
-    the contact springs), which governs; P14 stays as the rigorous guarantee below it, and the
-    no-rebound limit is half the dashpots' own limit (P17), as the stepper's safety 0.5."""
-    for z in (6, 8, 12):
-        c = C.critical_dt(R, RHO, E, NU, 1.0, coordination=z)
-        s_min, k_n, k_t = c.parameters['s_min'], c.derived['k_n'], c.derived['k_t']
-        lattice = C.lattice_limit(R, RHO, 1.0, z, s_min=s_min, spring=k_n, tangential_spring=k_t)
-        assert c.governing == 'network_spectral' and c.regime == 'viscous'
-        assert c.stability_limit == pytest.approx(lattice['h'], rel=1e-10)
-        p14 = c.bound('network')
-        assert p14.kind == 'sufficient' and p14.value == pytest.approx(lattice['network_bound'], rel=1e-12)
-        assert 1.5 * p14.value < c.stability_limit < c.bound('viscous_pair').value
-        dashpots = C.lattice_limit(R, RHO, 1.0, z, s_min=s_min)['h']
-        assert c.no_rebound_limit == pytest.approx(dashpots / 2, rel=1e-10)
+def test_planning_stays_with_p14_because_a_random_bed_is_below_the_lattice_limit():
+    """The study's wetted random bed (μ = 1 Pa·s, equal spheres, z = 4.5) blew up above a step below
+    the simple cubic lattice's limit, although it has fewer contacts: its top mode is local.  So the
+    lattice limit is no planning value, and critical_dt's P14 stays below the measurement even with
+    z rounded up to 6."""
+    import csv
+    import os
+    data = os.path.join(os.path.dirname(__file__), '..', '..', 'docs', 'data', 'critical_dt_explicit.csv')
+    base = [r for r in csv.DictReader(open(data)) if r['viscosity'] == '1.0' and r['sMinRel'] == '0.001'
+            and r['sizeRatio'] == '1.0' and r['normalModel'] == 'adamsPerchard' and r['radius'] == '0.0005']
+    measured = float(base[0]['dt_critical'])
+    plan = C.critical_dt(R, RHO, E, NU, 1.0, coordination=6)
+    lattice = C.lattice_limit(R, RHO, 1.0, 6, s_min=plan.parameters['s_min'], spring=plan.derived['k_n'],
+                              tangential_spring=plan.derived['k_t'])['h']
+    assert lattice > 1.3 * measured
+    for z in (4, 5, 6):
+        assert C.critical_dt(R, RHO, E, NU, 1.0, coordination=z).stability_limit < measured
 
 
-@pytest.mark.parametrize('kw', [dict(coordination=5), dict(coordination=6, restitution=0.5),
-                                dict(coordination=6, radius2=2 * R), dict(coordination=6, wall=True),
-                                dict(coordination=6, integration='implicit'),
-                                dict(coordination=6, capillary_model='willett', surface_tension=0.072)])
-def test_p14_remains_the_limit_where_no_lattice_spectrum_applies(kw):
-    c = C.critical_dt(R, RHO, E, NU, 1.0, **kw)
-    assert 'network_spectral' not in c.names() and c.bound('network').kind == 'stability'
-    assert all(b.kind != 'sufficient' for b in c.bounds)
+def test_lattice_limit_without_dashpots_or_springs_is_unbounded():
+    assert C.lattice_limit(R, RHO, 0.0, 6)['h'] == math.inf
 
 def _damping_system(radii, positions, contacts, model, s_min, mu=1.0):
     """Generalised damping matrix M⁻¹D of the bridges of a cluster (6 dof per sphere), built from
