@@ -3,6 +3,7 @@
 #include "physics/PairKernel.hpp"
 #include "ViscBridgeGuard.hpp"
 #include "ViscBridgeImplicitSolver.hpp"
+#include <core/Omega.hpp>
 #include <core/Scene.hpp>
 #include <array>
 #include <tuple>
@@ -179,6 +180,20 @@ bool Law2_ScGeom_ViscBridgePhys_HertzViscous::go(shared_ptr<IGeom>& ig, shared_p
 	auto&      ph       = static_cast<ViscBridgePhys&>(*ip);
 	const bool implicit = integrationIndex == static_cast<int>(viscbridge::Integration::implicitEuler) && solverPresent();
 	return kernels[(ph.kernel * 2 + (scene->trackEnergy ? 1 : 0)) * 2 + (implicit ? 1 : 0)](*this, geom, ph, I);
+}
+
+Real Law2_ScGeom_ViscBridgePhys_HertzViscous::capillaryInput() const
+{
+	// the work of a step is booked at the next one (E1, physics.md P21: it needs the velocities that
+	// followed); the pending step's, F·vn·dt with the velocity it was recorded with, is O(dt²) off
+	const Scene* sc    = Omega::instance().getScene().get();
+	Real         input = -capillaryWork.get();
+	for (const auto& I : *sc->interactions) {
+		if (!I->isReal()) continue;
+		const auto* ph = dynamic_cast<const ViscBridgePhys*>(I->phys.get());
+		if (ph && ph->workPending) input += ph->workCapillary * ph->workVn * sc->dt;
+	}
+	return input;
 }
 
 } // namespace yade

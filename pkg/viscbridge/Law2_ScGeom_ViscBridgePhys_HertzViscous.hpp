@@ -43,7 +43,9 @@ public:
 	void addEnergy(Real value, const char* name, int& index, bool reset);
 	FUNCTOR2D(ScGeom, ViscBridgePhys);
 	// clang-format off
-	YADE_CLASS_BASE_DOC_ATTRS(Law2_ScGeom_ViscBridgePhys_HertzViscous, LawFunctor,
+	Real capillaryWorkSoFar() const { return capillaryWork.get(); }
+	Real capillaryInput() const; // −capillaryWork with the last step's work, not booked yet
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(Law2_ScGeom_ViscBridgePhys_HertzViscous, LawFunctor,
 		"Hertz–Mindlin contact with Coulomb friction (as :yref:`Law2_ScGeom_MindlinPhys_Mindlin`, "
 		"optionally with contact damping) plus the viscous forces of a liquid bridge: normal "
 		"$F=-C^n v_r^n$ (P3) and the tangential model chosen in "
@@ -65,6 +67,15 @@ public:
 		"booked at the next step, when $v_{n+1/2}$ is known): it matches the kinetic energy YADE's "
 		"leapfrog reports, so ``O.energy.total()`` stays near 0 at any stable time step.",
 		((string,integration,"explicit",Attr::triggerPostLoad,"Time integration of the viscous forces: 'explicit' (the paper's framework: forces from the velocities the integrator stores; stable for $\\Delta t<2t_v$, P12) or 'implicit' (backward Euler over the contact network, P15, solved by :yref:`ViscBridgeImplicitSolver`, which must be in O.engines; unconditionally stable for the viscous part)."))
+		,
+		/* ctor */
+		,
+		/* py */
+		.add_property("capillaryInput", &Law2_ScGeom_ViscBridgePhys_HertzViscous::capillaryInput,
+		              "Energy the capillary forces have put into the particles since this law was created [J], with or "
+		              "without energy tracking (P21): minus the work booked as ``O.energy['capillaryWork']``, which books a "
+		              "step's work once the following velocities are known, plus the last step's, estimated with the "
+		              "velocity it was recorded with. Stability checks add it to the released potential energy.")
 	);
 	// clang-format on
 	DECLARE_LOGGER;

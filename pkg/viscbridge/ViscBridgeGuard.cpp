@@ -107,7 +107,7 @@ Real ViscBridgeGuard::storedElasticEnergy() const
 Real ViscBridgeGuard::capillaryWorkSoFar() const
 {
 	const auto* law = findViscBridgeFunctors(scene).law;
-	return law ? Real(law->capillaryWork.get()) : 0;
+	return law ? law->capillaryWorkSoFar() : 0;
 }
 
 Real ViscBridgeGuard::mechanicalEnergyNow() const

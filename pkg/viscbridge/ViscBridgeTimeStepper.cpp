@@ -37,10 +37,14 @@ void ViscBridgeTimeStepper::postLoad(ViscBridgeTimeStepper&)
 
 bool ViscBridgeTimeStepper::isActivated()
 {
-	// the base class divides by timeStepUpdateInterval (an inherited attribute, without a hook on
-	// assignment): a value < 1 is reported here, at the first step, instead of a SIGFPE
-	if (timeStepUpdateInterval < 1)
-		viscbridge::rejectValue("ViscBridgeTimeStepper", "timeStepUpdateInterval", static_cast<double>(timeStepUpdateInterval), ">= 1 (steps)");
+	// timeStepUpdateInterval is inherited, without a hook on assignment, so it is checked here, at the
+	// first step: the stepper must run every step, because it corrects dt at once for the bridges that
+	// form between its full updates (which it schedules itself, up to maxInterval); a larger value
+	// would let a new bridge run at the dry dt (measured: a blow-up at the first bridge), and 0 is a
+	// division by zero in the base class
+	if (timeStepUpdateInterval != 1)
+		viscbridge::rejectValue("ViscBridgeTimeStepper", "timeStepUpdateInterval", static_cast<double>(timeStepUpdateInterval),
+		                        "1 (the stepper runs every step and schedules its own full updates: see maxInterval)");
 	return TimeStepper::isActivated();
 }
 

@@ -360,6 +360,7 @@ class _Trial:
         import random
         from yade import O, utils
         import yade.wrapper as yw
+        from . import scenes
         O.load(self.bed)
         O.interactions.clear()  # every contact is re-created as a bridge with this liquid
         loop = next(e for e in O.engines if isinstance(e, yw.InteractionLoop))
@@ -379,11 +380,15 @@ class _Trial:
                 b.state.vel = tuple(rng.uniform(-v, v) for _ in range(3))
         self.z0 = {b.id: b.state.pos[2] for b in O.bodies if b.dynamic}
         self.ke0 = utils.kineticEnergy()
+        self.capillary0 = scenes.capillary_input()
 
     def measures(self):
+        """Kinetic energy, and the energy released since prepare(): potential energy and the
+        capillary forces' input."""
         from yade import O, utils
+        from . import scenes
         released = sum(O.bodies[i].state.mass * 9.81 * (z - O.bodies[i].state.pos[2]) for i, z in self.z0.items())
-        return utils.kineticEnergy(), released
+        return utils.kineticEnergy(), released + scenes.capillary_input() - self.capillary0
 
     def unstable_at(self, dt):
         """Run `steps` steps at dt; the instability criterion's reason, or None."""

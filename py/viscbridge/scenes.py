@@ -20,7 +20,7 @@ import yade.wrapper as yw
 from . import _checks, criteria
 from .engine_list import engines, bridge_parameters
 
-__all__ = ['settling', 'Settling', 'instability']
+__all__ = ['settling', 'Settling', 'instability', 'capillary_input']
 
 
 def instability(kinetic, released, initial_kinetic=0.0):
@@ -29,7 +29,8 @@ def instability(kinetic, released, initial_kinetic=0.0):
     The stated criterion: the kinetic energy of a run under gravity can only come from the released
     potential energy (plus what it had at the start); an explicit scheme above its stable step
     injects energy, so KE > KE₀ + released means the integration has blown up.  A NaN or inf in
-    either number counts as unstable too.
+    either number counts as unstable too.  With capillary forces, ``released`` must include what
+    they have put in (:func:`capillary_input`): they pull the particles together by themselves.
     """
     if not (math.isfinite(kinetic) and math.isfinite(released)):
         return 'non-finite energy (kinetic=%r, released=%r)' % (kinetic, released)
@@ -37,6 +38,16 @@ def instability(kinetic, released, initial_kinetic=0.0):
         return 'kinetic energy %.4g J exceeds the released potential energy %.4g J (+ initial %.4g J)' % (
             kinetic, released, initial_kinetic)
     return None
+
+
+def capillary_input():
+    """Energy the capillary forces have put into the particles [J] since the scene's ViscBridge law
+    was created (its ``capillaryInput``, physics.md P21); 0 without capillary forces."""
+    for loop in (e for e in O.engines if isinstance(e, yw.InteractionLoop)):
+        for law in loop.lawDispatcher.functors:
+            if isinstance(law, yw.Law2_ScGeom_ViscBridgePhys_HertzViscous):
+                return law.capillaryInput
+    return 0.0
 
 
 class Settling:
@@ -47,6 +58,7 @@ class Settling:
         self.walls = walls
         self._z0 = heights              # initial height of every dynamic body
         self.initial_kinetic = utils.kineticEnergy()
+        self._capillary0 = capillary_input()
         self.stopped_because = None
         self.stopped_at = None          # simulated time of the stop, if the run was stopped
 
@@ -65,8 +77,10 @@ class Settling:
         return sum(1 for i in O.interactions if i.isReal and getattr(i.phys, 'bridge', False))
 
     def unstable(self):
-        """The instability criterion (:func:`instability`) applied now; None while stable."""
-        return instability(self.kinetic_energy(), self.released_energy(), self.initial_kinetic)
+        """The instability criterion (:func:`instability`) applied now, the capillary forces' input
+        counted with the released potential energy; None while stable."""
+        released = self.released_energy() + capillary_input() - self._capillary0
+        return instability(self.kinetic_energy(), released, self.initial_kinetic)
 
     def guard(self):
         """The scene's ViscBridgeGuard, or None."""

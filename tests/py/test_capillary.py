@@ -198,3 +198,24 @@ def test_the_tools_accept_the_capillary_parameters():
         viscbridge.engines(surfaceTension=-1.0)
     ip2 = next(e for e in viscbridge.engines(capillaryModel='willett', surfaceTension=0.05) if isinstance(e, yw.InteractionLoop)).physDispatcher.functors[0]
     assert (ip2.capillaryModel, ip2.surfaceTension) == ('willett', 0.05)
+
+
+def test_the_scans_energy_verdict_counts_what_the_capillary_pull_puts_in(tmp_path):
+    """A bed wetted with capillary bridges alone (μ = 0, γ = 0.072 N/m): the pull gives the spheres
+    kinetic energy by itself, so the criterion counts it with the released potential energy — stable
+    at the collision step and below, unstable far above (before, every Δt from 1e-6 s was
+    'unstable', and a scan reported a critical step 250× too small)."""
+    from viscbridge import scan
+    case = scan.normalize_case(dict(n=40, steps=300, viscosity=0.0, capillaryModel='willett', surfaceTension=GAMMA))
+    trial = scan._Trial(case, scan.dry_bed(case, str(tmp_path)))
+    for dt in (1e-7, 1e-6, 8.65e-6):
+        assert trial.unstable_at(dt) is None, dt
+    assert trial.unstable_at(3e-4)
+
+
+def test_a_capillary_settling_run_is_not_called_unstable():
+    """The settling scene's own check, on a cloud landing with capillary bridges alone (implicit, μ = 0)."""
+    s = scenes.settling(n=60, seed=2, cloudFraction=0.25, integration='implicit', viscosity=0.0, capillaryModel='willett',
+                        surfaceTension=GAMMA)
+    assert s.run(duration=0.02) is None
+    assert s.bridges() > 20 and scenes.capillary_input() != 0  # net: pulls in, ruptures take U(S_f) back
