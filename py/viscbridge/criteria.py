@@ -35,7 +35,7 @@ r̄ = r and m* = m.  All quantities in SI units.  The constants are those of the
 import math
 from dataclasses import dataclass, field
 
-from ._checks import choice, non_negative, number, positive, reject
+from ._checks import choice, in_range, integer, non_negative, number, positive, reject
 from . import _registry
 
 __all__ = ['Bound', 'TimeStepCriteria', 'critical_dt', 'rayleigh_time', 'rayleigh_dt',
@@ -71,6 +71,22 @@ def _poisson(func, value, name='poisson'):
     if not -1 < x < 0.5:
         reject(func, name, value, allowed)
     return x
+
+
+def _gap_and_volume(func, r_bar, particle_volume, s_min, s_min_rel, bridge_volume, bridge_volume_rel):
+    """S_min and V as the Ip2 fills them in (sMin or sMinRel · r̄, bridgeVolume or bridgeVolumeRel × the
+    mean particle volume), checked."""
+    if s_min is None:
+        smin = in_range(func, 's_min_rel', s_min_rel, 0, 1, lo_open=True, unit=' (S_min / r̄)') * r_bar
+    else:
+        smin = positive(func, 's_min', s_min, ' [m]')
+    if bridge_volume is None:
+        vrel = in_range(func, 'bridge_volume_rel', bridge_volume_rel, 0, 1, lo_open=True,
+                        unit=' (fraction of the particle volume)')
+        volume = vrel * particle_volume
+    else:
+        volume = positive(func, 'bridge_volume', bridge_volume, ' [m³]')
+    return smin, volume
 
 
 def _geometry(func, radius1, radius2, wall):
@@ -232,8 +248,10 @@ def normal_coefficient(r_bar, viscosity, gap, normal_model='adamsPerchard', brid
     'adamsPerchard' (P4): C^n = 6πμ r̄²/S;  'pitois' (P5): C^n = 6πμ r̄²/S · [1 − (1 + V/(π r̄ S²))^(−1/2)]²;
     'none': 0.
     """
+    choice('normal_coefficient', 'normal_model', normal_model, NORMAL_MODELS)
     if normal_model == 'none' or viscosity == 0:
         return 0.0
+    positive('normal_coefficient', 'gap', gap, ' [m] (the clamped gap max(S, S_min))')
     c = 6 * math.pi * viscosity * r_bar * r_bar / gap
     if normal_model == 'pitois':
         c *= pitois_volume_factor(r_bar, gap, bridge_volume)
@@ -480,8 +498,11 @@ def lattice_limit(radius, density, viscosity, coordination=12, *, s_min=None, s_
     choice(f, 'normal_model', normal_model, NORMAL_MODELS)
     choice(f, 'tangential_model', tangential_model, TANGENTIAL_MODELS)
     r_bar = r / 2
-    smin = positive(f, 's_min', s_min, ' [m]') if s_min is not None else s_min_rel * r_bar
-    volume = bridge_volume if bridge_volume is not None else bridge_volume_rel * sphere_volume(r)
+    smin, volume = _gap_and_volume(f, r_bar, sphere_volume(r), s_min, s_min_rel, bridge_volume, bridge_volume_rel)
+    spring = non_negative(f, 'spring', spring, ' [N/m]')
+    if tangential_spring is not None:
+        non_negative(f, 'tangential_spring', tangential_spring, ' [N/m]')
+    q_points = integer(f, 'q_points', q_points, minimum=2)
     m = sphere_mass(r, rho)
     inertia = 0.4 * m * r * r
     cn = normal_coefficient(r_bar, mu, smin, normal_model, volume) if normal_model != 'none' else 0.0
@@ -693,22 +714,9 @@ def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wal
     m_eff = reduced_mass(m1, m2)
     inv_m = 1.0 / m1 + (0.0 if m2 is None else 1.0 / m2)  # 1/m_i + 1/m_j, = 1/m* (P14)
 
-    if s_min is None:
-        rel = number(f, 's_min_rel', s_min_rel, '(0, 1] (S_min / r̄)')
-        if not 0 < rel <= 1:
-            reject(f, 's_min_rel', s_min_rel, '(0, 1] (S_min / r̄)')
-        smin = rel * r_bar
-    else:
-        smin = positive(f, 's_min', s_min, ' [m]')
-    if bridge_volume is None:
-        vrel = number(f, 'bridge_volume_rel', bridge_volume_rel, '(0, 1] (fraction of the particle volume)')
-        if not 0 < vrel <= 1:
-            reject(f, 'bridge_volume_rel', bridge_volume_rel, '(0, 1] (fraction of the particle volume)')
-        v1 = sphere_volume(r1)
-        v2 = v1 if r2 is None else sphere_volume(r2)
-        volume = vrel * 0.5 * (v1 + v2)
-    else:
-        volume = positive(f, 'bridge_volume', bridge_volume, ' [m³]')
+    v1 = sphere_volume(r1)
+    v2 = v1 if r2 is None else sphere_volume(r2)
+    smin, volume = _gap_and_volume(f, r_bar, 0.5 * (v1 + v2), s_min, s_min_rel, bridge_volume, bridge_volume_rel)
 
     # ---- dry contact ------------------------------------------------------------------------------
     e_star = effective_young(e, nu)

@@ -83,11 +83,12 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
     """
     f = 'engines'
     try:
-        gravity = tuple(_checks.number(f, 'gravity', g, 'three finite numbers [m/s²]') for g in gravity)
-    except TypeError:
-        gravity = None
-    if gravity is None or len(gravity) != 3:
-        _checks.reject(f, 'gravity', gravity, 'three finite numbers [m/s²]')
+        checked = tuple(_checks.number(f, 'gravity', g, 'three finite numbers [m/s²]') for g in gravity)
+    except TypeError:  # not iterable, e.g. gravity=9.81: reported with the value given
+        checked = None
+    if checked is None or len(checked) != 3:
+        _checks.reject(f, 'gravity', gravity, 'three finite numbers [m/s²], e.g. (0, 0, -9.81)')
+    gravity = checked
     _checks.choice(f, 'integration', integration, criteria.INTEGRATIONS)
     _checks.boolean(f, 'timeStepper', timeStepper)
     _checks.boolean(f, 'guard', guard)

@@ -238,3 +238,30 @@ def test_criteria_wrong_types_name_the_parameter(args, kw, name):
     from viscbridge import criteria
     with pytest.raises(ValueError, match=name):
         criteria.critical_dt(*args, **kw)
+
+
+def test_a_scalar_gravity_is_reported_with_the_value_given():
+    with pytest.raises(ValueError, match=r"engines: gravity=9\.81 is out of range; allowed: three finite numbers"):
+        viscbridge.engines(gravity=9.81)
+
+
+@pytest.mark.parametrize('kw,message', [
+    (dict(s_min_rel=-1), 's_min_rel=-1 is out of range'), (dict(s_min_rel=5), 's_min_rel=5 is out of range'),
+    (dict(spring=-5), 'spring=-5 is out of range'), (dict(spring='a'), "spring='a' is out of range"),
+    (dict(q_points=0), 'q_points=0 is out of range'), (dict(q_points=2.5), 'q_points=2.5 is out of range'),
+    (dict(normal_model='pitois', bridge_volume=-1), 'bridge_volume=-1 is out of range'),
+])
+def test_lattice_limit_wrong_values_name_the_parameter(kw, message):
+    from viscbridge import criteria
+    with pytest.raises(ValueError, match=re.escape('lattice_limit: ' + message)):
+        criteria.lattice_limit(0.5e-3, 2500, 1.0, 6, **kw)
+
+
+@pytest.mark.parametrize('args,message', [
+    ((2.5e-4, 1.0, 1e-7, 'x'), "normal_model='x' is not a known name"), ((2.5e-4, 1.0, 0.0), 'gap=0.0 is out of range'),
+])
+def test_normal_coefficient_refuses_an_unknown_model_and_a_zero_gap(args, message):
+    """It returned the Adams–Perchard value for any unknown name, and divided by zero at S = 0."""
+    from viscbridge import criteria
+    with pytest.raises(ValueError, match=re.escape('normal_coefficient: ' + message)):
+        criteria.normal_coefficient(*args)
