@@ -61,7 +61,7 @@ public:
 		"the previous mode, and started again where a diagonal entry or a pair's own limit shows a stiffer "
 		"mode (physics.md §7); the estimate is corrected upwards by its residual and bracketed from below by "
 		"the rigorous bound P14 ($\\Delta t \\le \\min_i 4/(d_i+\\sqrt{d_i^2+4\\kappa_i})$), which is "
-		"1.5–3× lower on packings. Spheres also obey rayleighFraction × their Rayleigh time.\n\n"
+		"1.5–4× lower on packings. Spheres also obey rayleighFraction × their Rayleigh time.\n\n"
 		"The full computation runs every updateInterval steps, an interval that doubles while the limit "
 		"stays within 1 % and halves when it moves by more than 5 % (1 … maxInterval). In between, every "
 		"step takes the bridges that formed (the law reports them) into account with a rigorous "

@@ -68,8 +68,9 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
     Keyword arguments of :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys` select the effects and the
     liquid: ``viscosity`` [Pa·s] (0 = dry), ``bridgeVolume`` [m³] or ``bridgeVolumeRel``,
     ``contactAngle`` [rad], ``sMin`` [m] or ``sMinRel``, ``normalModel`` ('none', 'adamsPerchard',
-    'pitois'), ``tangentialModel`` ('none', 'washino', 'slip', 'goldman'), ``formationDistance``
-    [m] and ``en`` (contact restitution).  Invalid values raise ValueError naming the parameter.
+    'pitois'), ``tangentialModel`` ('none', 'washino', 'slip', 'goldman'), ``capillaryModel``
+    ('none', 'willett', 'rabinovich') with ``surfaceTension`` [N/m], ``formationDistance`` [m] and
+    ``en`` (contact restitution).  Invalid values raise ValueError naming the parameter.
 
     integration: 'explicit' or 'implicit' (viscous forces by backward Euler over the contact
         network, with the ViscBridgeImplicitSolver engine inserted before the integrator).

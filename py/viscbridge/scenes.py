@@ -321,7 +321,8 @@ def settling(n=300, radius=0.5e-3, sizeRatio=1.0, density=2500.0, young=1e7, poi
     x and y and the floor a layer of fixed spheres (a periodic cell allows no infinite wall).  They
     settle under `gravity` [m/s²] through liquid of `viscosity` [Pa·s]; the other liquid and model
     parameters (sMin/sMinRel, bridgeVolume/bridgeVolumeRel, contactAngle, normalModel,
-    tangentialModel, formationDistance, en) are those of :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys`.
+    tangentialModel, capillaryModel, surfaceTension, formationDistance, en) are those of
+    :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys`.
 
     dt: a fixed time step [s], or None for ViscBridgeTimeStepper with `safety` (None: its default).
     initialSpeed: random initial velocities of this magnitude [m/s] (to start with motion).
