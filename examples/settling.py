@@ -21,11 +21,13 @@
 # once the bridges govern; the first 0.016 s alone take 179 000): --full does it (about 6 min).
 # ViscBridgeGuard stops an unstable run when the kinetic energy exceeds what gravity has put in,
 # and names the body, the contact and the violated criterion; the summary prints its diagnosis.
-# Output: one CSV and one PNG per run, settling.png with the four histories, summary.txt.
+# Output: one CSV and one PNG per run, settling.png with the four histories, summary.txt.  Ctrl-C or
+# SIGTERM stops the example and saves the history of the run in progress (exit status 130 or 143).
 # --quick (or VISCBRIDGE_QUICK=1): 40 spheres and a short time, the same code path (for the tests).
 # Expected: runs 1 and 4 stable, run 2 stopped by the guard at t ≈ 0.013 s (network bound violated),
 # run 3 at t ≈ 0.0012 s (pair limit violated); about 1 min in all.
 import os
+import signal
 import sys
 import time
 
@@ -61,12 +63,26 @@ runs = [('stepper', 'explicit, ViscBridgeTimeStepper', dict(dt=None)),
         ('dt_tv', 'explicit, fixed dt = t_v', dict(dt=t_v)),
         ('dt_2.5tv', 'explicit, fixed dt = 2.5 t_v', dict(dt=2.5 * t_v)),
         ('implicit', 'implicit, ViscBridgeTimeStepper', dict(dt=None, integration='implicit'))]
+
+
+def terminated(signum, frame):
+    # SIGTERM (kill, a batch system's time limit) stops the run like Ctrl-C, so that what ran is saved
+    raise KeyboardInterrupt('SIGTERM')
+
+
+signal.signal(signal.SIGTERM, terminated)
 histories, summary = {}, []
 for key, label, kw in runs:
     print('run %-9s %s ...' % (key, label))
     scene = scenes.settling(cloudFraction=0.25, **dict(case, **kw))
     start = time.time()
-    why, at_rest = scene.settle(max_duration if kw.get('integration') == 'implicit' else explicit_duration)
+    try:
+        why, at_rest = scene.settle(max_duration if kw.get('integration') == 'implicit' else explicit_duration)
+    except KeyboardInterrupt as stop:
+        csv_path, _ = scene.save(os.path.join(out_dir, key))
+        print('\ninterrupted (%s) in run %s at t = %.4g s: its history so far is in %s%s' % (
+            str(stop) or 'Ctrl-C', key, O.time, csv_path, ', the finished runs\' files beside it' if summary else ''))
+        sys.exit(143 if str(stop) == 'SIGTERM' else 130)
     wall = time.time() - start
     csv_path, png_path = scene.save(os.path.join(out_dir, key))
     histories[label] = (list(plot.data['t']), list(plot.data['Ek']), list(plot.data['dt']), scene.stopped_at)

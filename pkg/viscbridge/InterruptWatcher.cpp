@@ -6,6 +6,9 @@
 // (async-signal-safe).  Whoever sets a new handler later (IPython, in YADE's console, through
 // Python's signal.signal) replaces ours: the watcher looks twice a second and chains in front of
 // the new one (Python keeps its own view of its handlers, so signal.getsignal() is unaffected).
+// SIGTERM gets the same chain: with its default action it still ends the process at once, but a
+// script that handles it in Python (to save what it has, as examples/settling.py does) gets the
+// loop paused first, so that its handler runs.
 #include <core/Omega.hpp>
 #include <cerrno>
 #include <poll.h>
@@ -16,8 +19,9 @@
 namespace yade {
 
 namespace {
-	int              wakePipe[2] = { -1, -1 };
-	struct sigaction previous {};
+	int                     wakePipe[2] = { -1, -1 };
+	constexpr int           watched[]   = { SIGINT, SIGTERM };
+	struct sigaction        previousOf[2] {}; // the handler each watched signal had before ours
 
 	void onInterrupt(int sig, siginfo_t* info, void* context)
 	{
@@ -25,6 +29,7 @@ namespace {
 		const char byte       = 1;
 		[[maybe_unused]] const ssize_t written = write(wakePipe[1], &byte, 1);
 		errno                                  = savedErrno;
+		const struct sigaction& previous       = previousOf[sig == SIGINT ? 0 : 1];
 		if (previous.sa_flags & SA_SIGINFO) {
 			if (previous.sa_sigaction) previous.sa_sigaction(sig, info, context);
 		} else if (previous.sa_handler == SIG_DFL) {
@@ -35,20 +40,25 @@ namespace {
 		}
 	}
 
-	// Chains onInterrupt in front of the current SIGINT handler, unless it is there already or SIGINT
-	// is ignored on purpose (e.g. a background job).  Returns whether it is in place.
-	bool chain()
+	// Chains onInterrupt in front of the current handler of watched[k], unless it is there already or
+	// the signal is ignored on purpose (e.g. SIGINT of a background job).
+	void chain(int k)
 	{
 		struct sigaction current {};
-		if (sigaction(SIGINT, nullptr, &current) != 0) return false;
-		if ((current.sa_flags & SA_SIGINFO) && current.sa_sigaction == onInterrupt) return true;
-		if (!(current.sa_flags & SA_SIGINFO) && current.sa_handler == SIG_IGN) return false;
-		previous = current;
+		if (sigaction(watched[k], nullptr, &current) != 0) return;
+		if ((current.sa_flags & SA_SIGINFO) && current.sa_sigaction == onInterrupt) return;
+		if (!(current.sa_flags & SA_SIGINFO) && current.sa_handler == SIG_IGN) return;
+		previousOf[k] = current;
 		struct sigaction mine {};
 		mine.sa_sigaction = onInterrupt;
 		mine.sa_flags     = SA_SIGINFO | SA_RESTART;
 		sigemptyset(&mine.sa_mask);
-		return sigaction(SIGINT, &mine, nullptr) == 0;
+		sigaction(watched[k], &mine, nullptr);
+	}
+	void chain()
+	{
+		for (int k = 0; k < 2; ++k)
+			chain(k);
 	}
 
 	void watch()

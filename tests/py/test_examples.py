@@ -47,3 +47,29 @@ def check_settling_story(stdout, summary):
     assert re.search(r'Body #\d+ at', diagnosis) and re.search(r'interaction #\d+\+#\d+', diagnosis)
     assert 'Violated: the explicit viscous pair limit' in diagnosis
     assert 'A safe dt for the current contacts' in diagnosis
+
+
+@pytest.mark.parametrize('sig, status', [('SIGTERM', 143), ('SIGINT', 130)])
+def test_a_stopped_example_keeps_the_run_in_progress(sig, status, tmp_path):
+    """Ctrl-C or SIGTERM (a batch system's time limit) during the main example's first run: it stops at
+    once and the history of that run so far is saved."""
+    import signal
+    import subprocess
+    import time
+    out = tmp_path / 'out'
+    proc = subprocess.Popen(['yade', '-n', '-x', '-j1', os.path.abspath(os.path.join(EXAMPLES, 'settling.py')), str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=str(tmp_path),
+                            env=dict(os.environ, PYTHONUNBUFFERED='1', OMP_NUM_THREADS='1'))
+    try:
+        for line in proc.stdout:
+            if line.startswith('run stepper'):
+                break
+        time.sleep(3)  # run 1 takes about 40 s
+        proc.send_signal(getattr(signal, sig))
+        stdout, stderr = proc.communicate(timeout=120)
+    finally:
+        proc.kill()
+    assert proc.returncode == status, stderr[-2000:]
+    assert 'interrupted (%s) in run stepper' % ('SIGTERM' if sig == 'SIGTERM' else 'Ctrl-C') in stdout
+    history = (out / 'stepper.csv').read_text().splitlines()
+    assert len(history) > 3 and (out / 'stepper.png').is_file()
