@@ -10,7 +10,9 @@
 // script that handles it in Python (to save what it has, as examples/settling.py does) gets the
 // loop paused first, so that its handler runs.
 #include <core/Omega.hpp>
+#include <algorithm>
 #include <cerrno>
+#include <iterator>
 #include <poll.h>
 #include <csignal>
 #include <thread>
@@ -21,7 +23,7 @@ namespace yade {
 namespace {
 	int                     wakePipe[2] = { -1, -1 };
 	constexpr int           watched[]   = { SIGINT, SIGTERM };
-	struct sigaction        previousOf[2] {}; // the handler each watched signal had before ours
+	struct sigaction        previousOf[std::size(watched)] {}; // the handler each watched signal had before ours
 
 	void onInterrupt(int sig, siginfo_t* info, void* context)
 	{
@@ -29,7 +31,7 @@ namespace {
 		const char byte       = 1;
 		[[maybe_unused]] const ssize_t written = write(wakePipe[1], &byte, 1);
 		errno                                  = savedErrno;
-		const struct sigaction& previous       = previousOf[sig == SIGINT ? 0 : 1];
+		const struct sigaction& previous       = previousOf[std::find(std::begin(watched), std::end(watched), sig) - std::begin(watched)];
 		if (previous.sa_flags & SA_SIGINFO) {
 			if (previous.sa_sigaction) previous.sa_sigaction(sig, info, context);
 		} else if (previous.sa_handler == SIG_DFL) {
@@ -42,7 +44,7 @@ namespace {
 
 	// Chains onInterrupt in front of the current handler of watched[k], unless it is there already or
 	// the signal is ignored on purpose (e.g. SIGINT of a background job).
-	void chain(int k)
+	void chain(size_t k)
 	{
 		struct sigaction current {};
 		if (sigaction(watched[k], nullptr, &current) != 0) return;
@@ -57,7 +59,7 @@ namespace {
 	}
 	void chain()
 	{
-		for (int k = 0; k < 2; ++k)
+		for (size_t k = 0; k < std::size(watched); ++k)
 			chain(k);
 	}
 

@@ -501,7 +501,7 @@ def lattice_limit(radius, density, viscosity, coordination=12, *, s_min=None, s_
     smin, volume = _gap_and_volume(f, r_bar, sphere_volume(r), s_min, s_min_rel, bridge_volume, bridge_volume_rel)
     spring = non_negative(f, 'spring', spring, ' [N/m]')
     if tangential_spring is not None:
-        non_negative(f, 'tangential_spring', tangential_spring, ' [N/m]')
+        tangential_spring = non_negative(f, 'tangential_spring', tangential_spring, ' [N/m]')
     q_points = integer(f, 'q_points', q_points, minimum=2)
     m = sphere_mass(r, rho)
     inertia = 0.4 * m * r * r
