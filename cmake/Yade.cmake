@@ -75,14 +75,17 @@ endif()
 if("MPI" IN_LIST YADE_FEATURES)
   find_package(MPI REQUIRED COMPONENTS CXX)
   target_link_libraries(yade::yade INTERFACE MPI::MPI_CXX)
-  # core/Subdomain.hpp (yade.mpy's subdomain, read by pkg/viscbridge/Distributed*.cpp) includes
+  # core/Subdomain.hpp (yade.mpy's subdomain, read by pkg/viscbridge/distributed/) includes
   # mpi4py's C API header
   execute_process(COMMAND ${Python3_EXECUTABLE} -c "import mpi4py; print(mpi4py.get_include())"
     OUTPUT_VARIABLE MPI4PY_INCLUDE_DIR OUTPUT_STRIP_TRAILING_WHITESPACE RESULT_VARIABLE _rc)
   if(NOT _rc EQUAL 0)
     message(FATAL_ERROR "YADE has the MPI feature but mpi4py is not importable (install python3-mpi4py).")
   endif()
-  target_include_directories(yade::yade SYSTEM INTERFACE "${MPI4PY_INCLUDE_DIR}")
+  # Searched before Python's include directory: there, mpi4py/ is a symlink, and the relative
+  # "../../MPI.h" that mpi4py.h includes would be recorded as /usr/include/MPI.h, a dependency that
+  # never exists, so that make rebuilt the plugin on every ./yadew run.
+  target_include_directories(yade::yade SYSTEM BEFORE INTERFACE "${MPI4PY_INCLUDE_DIR}")
 endif()
 if("GTS" IN_LIST YADE_FEATURES)
   find_package(PkgConfig REQUIRED)
@@ -90,10 +93,10 @@ if("GTS" IN_LIST YADE_FEATURES)
   target_link_libraries(yade::yade INTERFACE PkgConfig::GLIB2)
 endif()
 
-# Mirror the installed library directory into PREFIX/<libPATH>/yade<suffix>, plus a link to
+# Mirror the installed library directory into PREFIX/<libPATH>/yade<suffix>, plus a link to each
 # PLUGIN_FILE (which need not exist yet).  yade-batch starts its jobs with PREFIX/bin/yade<suffix>,
 # so that is linked too.
-function(yade_make_overlay prefix plugin_file)
+function(yade_make_overlay prefix)
   set(dir "${prefix}/${YADE_LIBDIR_RELATIVE}")
   file(REMOVE_RECURSE "${prefix}")
   file(MAKE_DIRECTORY "${dir}")
@@ -101,8 +104,10 @@ function(yade_make_overlay prefix plugin_file)
   foreach(e IN LISTS entries)
     file(CREATE_LINK "${YADE_LIBDIR}/${e}" "${dir}/${e}" SYMBOLIC)
   endforeach()
-  get_filename_component(name "${plugin_file}" NAME)
-  file(CREATE_LINK "${plugin_file}" "${dir}/${name}" SYMBOLIC)
+  foreach(plugin_file IN LISTS ARGN)
+    get_filename_component(name "${plugin_file}" NAME)
+    file(CREATE_LINK "${plugin_file}" "${dir}/${name}" SYMBOLIC)
+  endforeach()
   file(MAKE_DIRECTORY "${prefix}/bin")
   file(CREATE_LINK "${YADE_PREFIX}/bin/yade${YADE_SUFFIX}" "${prefix}/bin/yade${YADE_SUFFIX}" SYMBOLIC)
   set(YADE_OVERLAY_PREFIX "${prefix}" PARENT_SCOPE)

@@ -5,11 +5,13 @@
 //   viscbridge_registry --golden   JSON lines of coefficients and bounds of the C++ kernels on a grid
 //                                  of inputs, which tests/py/test_criteria.py compares with
 //                                  viscbridge.criteria (one formula source: the kernels)
-#include "viscbridge/physics/BridgeParameters.hpp"
-#include "viscbridge/physics/HertzMindlin.hpp"
-#include "viscbridge/physics/PairConstants.hpp"
-#include "viscbridge/physics/PairGeometry.hpp"
-#include "viscbridge/physics/TimeStepBounds.hpp"
+#include "viscbridge/core/models/Parameters.hpp"
+#include "viscbridge/core/models/contact/HertzMindlin.hpp"
+#include "viscbridge/core/pair/PairConstants.hpp"
+#include "viscbridge/core/pair/PairGeometry.hpp"
+#include "viscbridge/core/pair/PairRecord.hpp"
+#include <boost/preprocessor/stringize.hpp>
+#include "viscbridge/core/timestep/TimeStepBounds.hpp"
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -30,11 +32,34 @@ std::string number(double v)
 	return text;
 }
 
+// A Python string literal of any text (backslashes and quotes escaped).
+std::string pyString(const char* text)
+{
+	std::string out = "'";
+	for (const char* c = text; *c; ++c) {
+		if (*c == '\\' || *c == '\'') out += '\\';
+		out += *c;
+	}
+	return out + "'";
+}
+
+// The flags of the record's attribute tuples, as YADE's Attr (only which kind: output or internal).
+namespace Attr {
+	enum : int { noSave = 1, readonly = 2, triggerPostLoad = 4, hidden = 8 };
+}
+void printRecordEntry(const char* type, const char* name, bool output, const char* doc)
+{
+	std::printf("    %s: dict(type=%s, output=%s, doc=%s),\n", quoted(name).c_str(), quoted(type).c_str(), output ? "True" : "False", pyString(doc).c_str());
+}
+#define VISCBRIDGE_PRINT_RECORD(r, data, attr)                                                                                                   \
+	printRecordEntry(BOOST_PP_STRINGIZE(BOOST_PP_TUPLE_ELEM(5, 0, attr)), BOOST_PP_STRINGIZE(BOOST_PP_TUPLE_ELEM(5, 1, attr)),                \
+	                 ((BOOST_PP_TUPLE_ELEM(5, 3, attr)) & Attr::readonly) != 0, BOOST_PP_TUPLE_ELEM(5, 4, attr));
+
 template <class M> void printKeys()
 {
 	std::string keys;
-	for (const char* k : M::energyKeys)
-		keys += (keys.empty() ? "" : ", ") + quoted(k);
+	for (const vb::EnergyKey k : M::energyKeys)
+		keys += (keys.empty() ? "" : ", ") + quoted(vb::spec(k).name);
 	if (M::energyKeys.size() == 1) keys += ",";
 	std::printf("            %s: (%s),\n", quoted(M::name).c_str(), keys.c_str());
 }
@@ -62,8 +87,8 @@ template <class S> void printSlot()
 void printPython()
 {
 	std::printf("\"\"\"What the C++ side of ViscBridge registers, for the Python tools (generated: do not edit).\n\n"
-	            "Made by `viscbridge_registry --python` from pkg/viscbridge/physics/SubModels.hpp and\n"
-	            "BridgeParameters.hpp; tests/py/test_registry.py fails when it is out of date.\n\"\"\"\n");
+	            "Made by `viscbridge_registry --python` from pkg/viscbridge/core/models/Registry.hpp,\n"
+	            "Parameters.hpp and core/pair/PairRecord.hpp; tests/py/test_registry.py fails when it is out of date.\n\"\"\"\n");
 	std::printf("import math\n\n");
 	std::printf("#: The slots of a wet contact: the Ip2 attribute that selects the model, its models in order\n");
 	std::printf("#: (the first is 'none'), their capabilities and the O.energy keys each books.\n");
@@ -80,6 +105,10 @@ void printPython()
 		std::printf("    %s: dict(unit=%s, default=%s, lo=%s, hi=%s, lo_open=%s, hi_open=%s, zero_means=%s),\n", quoted(p.name).c_str(),
 		            quoted(p.unit).c_str(), number(p.defaultValue).c_str(), number(p.lo).c_str(), number(p.hi).c_str(), p.loOpen ? "True" : "False",
 		            p.hiOpen ? "True" : "False", quoted(p.zeroMeans).c_str());
+	std::printf("}\n\n#: The per-contact record of ViscBridgePhys (core/pair/PairRecord.hpp), in its order: the type of each\n");
+	std::printf("#: attribute, whether it is an output a user reads (else internal state), and its documentation.\n");
+	std::printf("RECORD = {\n");
+	BOOST_PP_SEQ_FOR_EACH(VISCBRIDGE_PRINT_RECORD, ~, VISCBRIDGE_PAIR_RECORD_ATTRS)
 	std::printf("}\n");
 }
 

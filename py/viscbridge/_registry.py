@@ -1,7 +1,7 @@
 """What the C++ side of ViscBridge registers, for the Python tools (generated: do not edit).
 
-Made by `viscbridge_registry --python` from pkg/viscbridge/physics/SubModels.hpp and
-BridgeParameters.hpp; tests/py/test_registry.py fails when it is out of date.
+Made by `viscbridge_registry --python` from pkg/viscbridge/core/models/Registry.hpp,
+Parameters.hpp and core/pair/PairRecord.hpp; tests/py/test_registry.py fails when it is out of date.
 """
 import math
 
@@ -80,4 +80,29 @@ PARAMETERS = {
     'formationDistance': dict(unit='m', default=0.0, lo=0.0, hi=math.inf, lo_open=False, hi_open=True, zero_means='at contact'),
     'en': dict(unit='', default=1.0, lo=0.0, hi=1.0, lo_open=True, hi_open=False, zero_means=''),
     'surfaceTension': dict(unit='N/m', default=0.0, lo=0.0, hi=math.inf, lo_open=False, hi_open=True, zero_means='no capillary force'),
+}
+
+#: The per-contact record of ViscBridgePhys (core/pair/PairRecord.hpp), in its order: the type of each
+#: attribute, whether it is an output a user reads (else internal state), and its documentation.
+RECORD = {
+    'shearElastic': dict(type='Vector3r', output=True, doc='Elastic tangential contact force, incrementally updated (YADE sense: sustained by body 2) [N].'),
+    'shearPotential': dict(type='Real', output=True, doc='Elastic energy stored in the tangential contact spring, accumulated as $\\sum(|F_s|^2-|F_{s,prev}|^2)/(2k_s)$ while energy is tracked [J].'),
+    'bridge': dict(type='bool', output=True, doc='Whether the liquid bridge exists.'),
+    'separation': dict(type='Real', output=True, doc='Surface gap $S$ of the last step, negative in overlap [m].'),
+    'cn': dict(type='Real', output=True, doc='Normal viscous coefficient $C^n$ of the last step (0 without bridge) [N·s/m].'),
+    'ct': dict(type='Real', output=True, doc='Tangential viscous coefficient $C_T$ of the last step (0 without bridge) [N·s/m].'),
+    'cr': dict(type='Real', output=True, doc='Rotational coupling coefficient $C_R$ of the last step (washino, goldman) [N·s/m].'),
+    'normalContactForce': dict(type='Vector3r', output=True, doc='Hertz normal contact force on body 1 (including contact damping) [N].'),
+    'shearContactForce': dict(type='Vector3r', output=True, doc='Mindlin tangential contact force on body 1 [N].'),
+    'normalViscousForce': dict(type='Vector3r', output=True, doc='Normal viscous bridge force on body 1 (P3) [N].'),
+    'shearViscousForce': dict(type='Vector3r', output=True, doc='Tangential viscous bridge force on body 1 [N].'),
+    'capillaryForce': dict(type='Vector3r', output=True, doc='Capillary force on body 1, towards body 2 (P19, P20) [N].'),
+    'workPending': dict(type='bool', output=False, doc='A previous step\'s work is still to be accounted.'),
+    'workCn': dict(type='Real', output=False, doc='C^n of that step.'),
+    'workVn': dict(type='Real', output=False, doc='Relative normal velocity of that step.'),
+    'workU': dict(type='Vector3r', output=False, doc='Tangential relative velocity u of that step.'),
+    'workS': dict(type='Vector3r', output=False, doc='Rotational term s of that step.'),
+    'workM1': dict(type='Vector2r', output=False, doc='Resistance row (m11, m12) of that step.'),
+    'workM2': dict(type='Vector2r', output=False, doc='Resistance row (m21, m22) of that step.'),
+    'workCapillary': dict(type='Real', output=False, doc='Capillary pull of that step.'),
 }

@@ -3,8 +3,8 @@
 // are written in), on top of the product's evaluatePair.
 #pragma once
 #include "test_support.hpp"
-#include "viscbridge/physics/PairGeometry.hpp"
-#include "viscbridge/physics/PairKernel.hpp"
+#include "viscbridge/core/pair/PairGeometry.hpp"
+#include "viscbridge/core/pair/PairKernel.hpp"
 
 namespace vbtest {
 
@@ -114,9 +114,10 @@ bool evaluatePair(const PairModels<N, T, D, C>& m, const PairParams& p, PairStat
 	out.shearViscous  = st.shearViscousForce;
 	out.capillary     = st.capillaryForce;
 	out.kn = st.kn, out.ks = st.ks, out.cn = st.cn, out.ct = st.ct, out.cr = st.cr;
-	out.dissipNormal = e.dissipNormal, out.dissipTangential = e.dissipTangential, out.dissipRotational = e.dissipRotational;
-	out.dissipContactDamping = e.dissipContactDamping, out.dissipFriction = e.dissipFriction;
-	out.elasticPotential = e.elasticPotential, out.capillaryWork = e.capillaryWork;
+	using K = EnergyKey;
+	out.dissipNormal = e[K::viscDissipNormal], out.dissipTangential = e[K::viscDissipTangential], out.dissipRotational = e[K::viscDissipRotational];
+	out.dissipContactDamping = e[K::contactDampDissip], out.dissipFriction = e[K::plastDissip];
+	out.elasticPotential = e[K::elastPotential], out.capillaryWork = e[K::capillaryWork];
 	out.block = st.implicitBlock;
 	return true;
 }

@@ -1,6 +1,6 @@
 // Capillary models (physics.md §8, P19–P22) and their place in the pair kernel.
 #include "pair_test_support.hpp"
-#include "viscbridge/physics/Capillary.hpp"
+#include "viscbridge/core/models/capillary/Capillary.hpp"
 #include <gtest/gtest.h>
 
 using namespace vbtest;

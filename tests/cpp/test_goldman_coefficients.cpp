@@ -1,6 +1,6 @@
 // Goldman's small-gap tangential coefficients C_T (P8), C_R (P9) and C_W (goldman model, §2).
 #include "test_support.hpp"
-#include "viscbridge/physics/GoldmanCoefficients.hpp"
+#include "viscbridge/core/models/tangential/GoldmanCoefficients.hpp"
 #include <cmath>
 #include <gtest/gtest.h>
 

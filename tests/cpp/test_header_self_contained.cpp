@@ -3,7 +3,7 @@
 // Eigen declares cross() in <Eigen/Core> but defines it in <Eigen/Geometry>; a header that forgets
 // the latter compiles but fails to link (undefined reference to MatrixBase::cross) — as the
 // committed Vector.hpp of cd125ca did.
-#include "viscbridge/physics/PairKernel.hpp"
+#include "viscbridge/core/pair/PairKernel.hpp"
 #include <gtest/gtest.h>
 
 TEST(KernelHeaders, PairKernelBringsInEigenGeometry)

@@ -1,7 +1,7 @@
 // Hertz–Mindlin constants and the restitution damping ratio, against YADE 2025.2.0's
 // Ip2_FrictMat_FrictMat_MindlinPhys (pkg/dem/HertzMindlin.cpp), whose formulas are written out here.
 #include "test_support.hpp"
-#include "viscbridge/physics/HertzMindlin.hpp"
+#include "viscbridge/core/models/contact/HertzMindlin.hpp"
 #include <cmath>
 #include <gtest/gtest.h>
 

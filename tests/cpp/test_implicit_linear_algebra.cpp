@@ -2,9 +2,9 @@
 // matrix against its resistance map, the block Cholesky factorisation against a dense one, and the
 // assembled system against its matrix-free product and its solution.
 #include "test_support.hpp"
-#include "viscbridge/physics/BlockCholesky.hpp"
-#include "viscbridge/physics/BridgeDampingMatrix.hpp"
-#include "viscbridge/physics/ImplicitViscousSystem.hpp"
+#include "viscbridge/core/linalg/BlockCholesky.hpp"
+#include "viscbridge/core/linalg/BridgeDampingMatrix.hpp"
+#include "viscbridge/core/linalg/ImplicitViscousSystem.hpp"
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 #include <array>

@@ -1,8 +1,8 @@
 // The network stability limit (physics.md §7, P16–P18): exact for a pair, and on random networks
 // within its error bracket of the limit found by a dense eigen-solution and bisection.
 #include "test_support.hpp"
-#include "viscbridge/physics/NetworkSpectrum.hpp"
-#include "viscbridge/physics/PairMaps.hpp"
+#include "viscbridge/core/timestep/NetworkSpectrum.hpp"
+#include "viscbridge/core/timestep/PairMaps.hpp"
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 

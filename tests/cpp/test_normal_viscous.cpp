@@ -1,6 +1,6 @@
 // Normal viscous coefficients: Adams–Perchard (P4) and Pitois (P5), evaluated at the clamped gap.
 #include "test_support.hpp"
-#include "viscbridge/physics/NormalViscous.hpp"
+#include "viscbridge/core/models/normal/NormalViscous.hpp"
 #include <cmath>
 #include <gtest/gtest.h>
 #include <random>

@@ -1,6 +1,6 @@
 // Reduced radius and mass (§1), the clamped gap (P6) and the rupture distance (P11).
 #include "test_support.hpp"
-#include "viscbridge/physics/PairGeometry.hpp"
+#include "viscbridge/core/pair/PairGeometry.hpp"
 #include <cmath>
 #include <gtest/gtest.h>
 

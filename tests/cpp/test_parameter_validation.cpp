@@ -1,11 +1,11 @@
 // User-facing parameter checks (SubModels.hpp, BridgeParameters.hpp, Validation.hpp): a bad value is rejected with a
 // std::invalid_argument (a Python ValueError) naming the parameter, the value and what is allowed.
-#include "viscbridge/physics/BridgeParameters.hpp"
-#include "viscbridge/physics/PairConstants.hpp"
-#include "viscbridge/physics/SubModels.hpp"
-#include "viscbridge/physics/NormalViscous.hpp"
-#include "viscbridge/physics/TangentialViscous.hpp"
-#include "viscbridge/physics/Validation.hpp"
+#include "viscbridge/core/models/Parameters.hpp"
+#include "viscbridge/core/pair/PairConstants.hpp"
+#include "viscbridge/core/models/Registry.hpp"
+#include "viscbridge/core/models/normal/NormalViscous.hpp"
+#include "viscbridge/core/models/tangential/TangentialViscous.hpp"
+#include "viscbridge/core/util/Validation.hpp"
 #include <cmath>
 #include <gtest/gtest.h>
 #include <limits>

@@ -1,6 +1,6 @@
 // Small helpers shared by the kernel tests: fixed-seed random vectors and a relative comparison.
 #pragma once
-#include "viscbridge/physics/Vector.hpp"
+#include "viscbridge/core/linalg/Types.hpp"
 #include <cmath>
 #include <random>
 

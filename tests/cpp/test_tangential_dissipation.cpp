@@ -5,8 +5,8 @@
 // tangential part of V1 − V2 is u (the normal part does no work against a tangential force).
 // A wall side (radius 0) takes no torque and its motion is already in V2, so its ω counts as 0.
 #include "test_support.hpp"
-#include "viscbridge/physics/PairGeometry.hpp"
-#include "viscbridge/physics/TangentialViscous.hpp"
+#include "viscbridge/core/pair/PairGeometry.hpp"
+#include "viscbridge/core/models/tangential/TangentialViscous.hpp"
 #include <cmath>
 #include <gtest/gtest.h>
 #include <random>

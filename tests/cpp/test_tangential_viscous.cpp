@@ -1,8 +1,8 @@
 // Tangential viscous models (physics.md §2): force and torque formulas, the wall side, rigid
 // rotation and the coefficient floors.  Dissipation is in test_tangential_dissipation.cpp.
 #include "test_support.hpp"
-#include "viscbridge/physics/PairGeometry.hpp"
-#include "viscbridge/physics/TangentialViscous.hpp"
+#include "viscbridge/core/pair/PairGeometry.hpp"
+#include "viscbridge/core/models/tangential/TangentialViscous.hpp"
 #include <cmath>
 #include <gtest/gtest.h>
 #include <random>

@@ -1,0 +1,334 @@
+#include "viscbridge/engines/ViscBridgeGuard.hpp"
+#include "viscbridge/yade/Ip2_FrictMat_FrictMat_ViscBridgePhys.hpp"
+#include "viscbridge/yade/Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
+#include "viscbridge/yade/ViscBridgePhys.hpp"
+#include "viscbridge/core/models/Registry.hpp"
+#include "viscbridge/core/timestep/TimeStepBounds.hpp"
+#include "viscbridge/core/util/Validation.hpp"
+#include "viscbridge/scene/SceneValidation.hpp"
+#include "viscbridge/scene/ViscBridgeContext.hpp"
+#include "viscbridge/distributed/Distributed.hpp"
+#include <core/InteractionLoop.hpp>
+#include <core/Scene.hpp>
+#include <pkg/common/ElastMat.hpp>
+#include <pkg/dem/NewtonIntegrator.hpp>
+#include <pkg/dem/ScGeom.hpp>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <sstream>
+
+namespace yade {
+
+CREATE_LOGGER(ViscBridgeGuard);
+
+namespace {
+	std::string fmt(Real v) { return viscbridge::formatValue(v); }
+	// translational + rotational; the inertia is given in the body's principal frame (clumps)
+	Real bodyKineticEnergy(const State& st)
+	{
+		const Vector3r w = st.ori.conjugate() * st.angVel;
+		return 0.5 * st.mass * st.vel.squaredNorm() + 0.5 * w.dot(st.inertia.cwiseProduct(w));
+	}
+	// the bodies whose motion the energy sums follow: dynamic ones, with a clump for its members
+	bool counted(const Body& b) { return b.isDynamic() && !b.isClumpMember(); }
+	using Clock = std::chrono::steady_clock;
+	std::string vec(const Vector3r& v)
+	{
+		std::ostringstream o;
+		o.precision(4);
+		o << "(" << v[0] << ", " << v[1] << ", " << v[2] << ")";
+		return o.str();
+	}
+}
+
+void ViscBridgeGuard::postLoad(ViscBridgeGuard&)
+{
+	namespace vb = viscbridge;
+	rollback.check(checked(), [&] {
+		vb::requireInRange("ViscBridgeGuard", "iterPeriod", iterPeriod, 1, false, 1e12, false);
+		vb::requireInRange("ViscBridgeGuard", "energyMargin", energyMargin, 1, false, 1e300, false);
+		vb::requireNonNegative("ViscBridgeGuard", "energyFloor", energyFloor, " [J]");
+	});
+}
+
+Real ViscBridgeGuard::storedElasticEnergy() const
+{
+	// Runs over every interaction at each check: in parallel, and with a class-index test instead
+	// of dynamic_cast (a ViscBridgePhys only exists on ScGeom-derived geometry: its Law2 needs it).
+	const int  vbIndex = ViscBridgePhys::getClassIndexStatic();
+	const long n       = static_cast<long>(scene->interactions->size());
+	const auto own     = distributed::ownership(scene); // [MPI] this rank's share
+	Real       e       = 0;
+#pragma omp parallel for schedule(static) reduction(+ : e)
+	for (long k = 0; k < n; ++k) {
+		const shared_ptr<Interaction>& I = (*scene->interactions)[k];
+		if (!I->isReal() || I->phys->getClassIndex() != vbIndex || !own.interaction(*I, scene)) continue;
+		const auto& ph = static_cast<const ViscBridgePhys&>(*I->phys);
+		const auto& g  = static_cast<const ScGeom&>(*I->geom);
+		if (g.penetrationDepth <= 0) continue;
+		e += 0.4 * ph.kno * std::pow(g.penetrationDepth, 2.5) + (ph.ks > 0 ? 0.5 * ph.shearElastic.squaredNorm() / ph.ks : 0.0);
+	}
+	return e;
+}
+
+
+Real ViscBridgeGuard::capillaryWorkSoFar() const
+{
+	return ViscBridgeContext::of(scene).conservativeWork.get();
+}
+
+Real ViscBridgeGuard::mechanicalEnergyNow() const
+{
+	const auto own = distributed::ownership(scene); // [MPI] this rank's share, then the sum over ranks
+	Real       e   = storedElasticEnergy();
+	for (const auto& b : *scene->bodies)
+		if (b && counted(*b) && own.body(*b)) e += bodyKineticEnergy(*b->state);
+	return distributed::sum(scene, e);
+}
+
+void ViscBridgeGuard::takeReference(Real slack)
+{
+	startPos.assign(scene->bodies->size(), Vector3r::Zero());
+	for (const auto& b : *scene->bodies)
+		if (b) startPos[b->getId()] = b->state->pos;
+	lastPos             = startPos; // the walls' work of the very next step counts
+	startEnergy         = mechanicalEnergyNow() + slack;
+	capillaryAtReference = capillaryWorkSoFar();
+	lastSlack           = slack;
+	boundaryWork        = 0;
+	referenceIter       = scene->iter;
+	referencePending    = false;
+	rebaselineRequested = false;
+}
+
+bool ViscBridgeGuard::startsNewRun()
+{
+	// A new O.run() (or a paused run resumed) shows as: a step counter that jumped, a new stopAtIter
+	// or stopAtTime, the last step of a run seen the previous time, or a pause long against the steps.
+	const auto now     = Clock::now();
+	const bool first   = lastCallIter < 0;
+	const Real gap     = first ? 0 : std::chrono::duration<Real>(now - lastCallEnd).count();
+	const bool newRun  = !first
+	        && (scene->iter != lastCallIter + 1 || lastStepOfRun || scene->stopAtIter != lastStopAtIter || scene->stopAtTime != lastStopAtTime
+	            || (gap > 0.5 && gap > 20 * stepSeconds));
+	if (!first && !newRun) stepSeconds = stepSeconds > 0 ? 0.9 * stepSeconds + 0.1 * gap : gap;
+	lastCallIter   = scene->iter;
+	lastStopAtIter = scene->stopAtIter;
+	lastStopAtTime = scene->stopAtTime;
+	lastStepOfRun  = (scene->stopAtIter > 0 && scene->iter + 1 == scene->stopAtIter) || (scene->stopAtTime > 0 && scene->time + scene->dt >= scene->stopAtTime);
+	return newRun;
+}
+
+void ViscBridgeGuard::accumulateBoundaryWork(bool newRun)
+{
+	// Work of kinematic bodies (walls moved by the user) on the particles during the last step (E4):
+	// the forces the particles exerted on them are still in the force container (the guard runs
+	// before ForceResetter), and the body gives the particles minus that power. The displacement is
+	// taken from the positions (a PyRunner may move a wall by setting its position, and a velocity
+	// set for the next step is not the one the body moved with); across a new run only the part its
+	// velocity explains, since a wall placed by hand between runs does no work.
+	scene->forces.sync();
+	Real delivered = 0;
+	lastPos.resize(scene->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
+	if (kinematic.empty() || scene->iter % iterPeriod == 0) { // the bodies the user moves: refreshed with each check
+		kinematic.clear();
+		const auto own = distributed::ownership(scene); // [MPI] on the rank that owns them
+		for (const auto& b : *scene->bodies)
+			if (b && !b->isDynamic() && own.body(*b)) kinematic.push_back(b->getId());
+	}
+	for (Body::id_t id : kinematic) {
+		const shared_ptr<Body>& b = Body::byId(id, scene);
+		if (!b || b->isDynamic()) continue;
+		const Vector3r moved = newRun ? Vector3r(b->state->vel * scene->dt) : Vector3r(b->state->pos - lastPos[id]);
+		lastPos[id]          = b->state->pos;
+		if (moved.allFinite()) delivered -= scene->forces.getForce(id).dot(moved); // NaN: first call
+		delivered -= scene->forces.getTorque(id).dot(b->state->angVel) * scene->dt;
+	}
+	boundaryWork += delivered;
+	// with energy tracking, as "boundaryWork" beside NewtonIntegrator's gravWork (same sign: what
+	// enters the system is negative), so that O.energy.total() also closes with moving walls
+	if (scene->trackEnergy && delivered != 0) scene->energy->add(-delivered, "boundaryWork", boundaryWorkIx, false);
+}
+
+void ViscBridgeGuard::checkEnergy()
+{
+	++checks;
+	Vector3r gravity = Vector3r::Zero();
+	for (const auto& e : scene->engines)
+		if (const auto* n = dynamic_cast<const NewtonIntegrator*>(e.get())) gravity = n->gravity;
+	// Sums over the bodies in parallel; which body is at fault is only looked for when the check fails.
+	Real       kinetic = 0, gravityWork = 0;
+	bool       finite  = true;
+	const long nBodies = static_cast<long>(scene->bodies->size());
+	const long nStart  = static_cast<long>(startPos.size());
+	const auto own     = distributed::ownership(scene); // [MPI] this rank's share
+#pragma omp parallel for schedule(static) reduction(+ : kinetic, gravityWork) reduction(&& : finite)
+	for (long k = 0; k < nBodies; ++k) {
+		const shared_ptr<Body>& b = (*scene->bodies)[k];
+		if (!b || !counted(*b) || !own.body(*b)) continue;
+		const State& st = *b->state;
+		finite          = finite && st.pos.allFinite() && st.vel.allFinite() && st.angVel.allFinite();
+		kinetic += bodyKineticEnergy(st);
+		if (k < nStart) gravityWork += st.mass * gravity.dot(st.pos - startPos[k]);
+	}
+	// what moving bodies and capillary attraction (minus its booked work, P21) have put in
+	Real elastic = finite ? storedElasticEnergy() : 0, work = boundaryWork - (capillaryWorkSoFar() - capillaryAtReference);
+	// [MPI] the check is global: every rank compares the sums over all ranks (no-op serially)
+	sumOverRanks(kinetic, gravityWork, work, elastic, finite);
+	kineticEnergy = kinetic;
+	energyIn      = startEnergy + std::max<Real>(0, gravityWork + work);
+	std::string what;
+	Real        mechanical = 0;
+	if (finite) {
+		mechanical = kinetic + elastic;
+		if (!std::isfinite(mechanical) || mechanical > energyMargin * energyIn + energyFloor)
+			what = "the kinetic + elastic energy " + fmt(mechanical) + " J exceeds what the scene had at step " + std::to_string(referenceIter)
+			        + " plus the work of gravity and moving bodies since, " + fmt(energyIn) + " J (× " + fmt(energyMargin) + " allowed)";
+	}
+	if (finite && what.empty()) {
+		lastSlack = std::max<Real>(0, energyIn - mechanical); // carried over when the next run takes a new reference
+		return;
+	}
+	// the body with a NaN/inf, else the one with the most kinetic energy
+	Body::id_t culprit = -1;
+	Real       most    = -1;
+	for (const auto& b : *scene->bodies) {
+		if (!b || !counted(*b) || !own.body(*b)) continue;
+		const State& st = *b->state;
+		if (!(st.pos.allFinite() && st.vel.allFinite() && st.angVel.allFinite())) {
+			what    = "body #" + std::to_string(b->getId()) + " has a NaN or inf position or velocity";
+			culprit = b->getId();
+			break;
+		}
+		if (bodyKineticEnergy(st) > most) {
+			most    = bodyKineticEnergy(st);
+			culprit = b->getId();
+		}
+	}
+	// [MPI] the culprit over all ranks; its rank writes the diagnosis that every rank raises
+	const int culpritRank = distributedCulprit(culprit, most);
+	lastError = distributed::broadcast(scene, culpritRank, diagnose(culprit, what));
+	lastError = distributed::rankLabel(scene, culpritRank) + lastError;
+	// not logged here: YADE's ThreadRunner (or Python, for O.step()) prints the exception's text
+	throw std::runtime_error(lastError);
+}
+
+std::string ViscBridgeGuard::safeStepAdvice(bool implicit, bool washino)
+{
+	std::ostringstream msg;
+	msg.precision(4);
+	const Real safe = 0.5 * bound.combined;
+	if (!(safe > 0) || !std::isfinite(safe)) {
+		msg << " No time step can be recommended: nothing in the current contacts bounds it.";
+	} else if (safe >= scene->dt) {
+		msg << " The time step dt = " << scene->dt << " s is already below half the rigorous bound P14 of the current contacts (" << safe
+		    << " s), which guarantees stability, so a smaller dt is not the remedy: "
+		    << (washino ? "the gain is likely the tangential model's (see above)."
+		                : "look for energy put in from outside the bound (velocities or positions set between steps: call rebaseline() after "
+		                  "such a change; an engine or PyRunner that sets velocities).");
+	} else {
+		// P14 is rigorous, so half of it is safe whatever the network; the stepper's spectral limit
+		// (physics.md §7) is usually larger, which is why it is named as the better remedy
+		msg << " A safe dt for the current contacts: " << safe << " s (half the rigorous bound P14; "
+		    << (implicit ? "implicit viscous forces: collision bound only)."
+		                 : "ViscBridgeTimeStepper sets dt from the live network's own limit, at least as high; or use "
+		                   "integration='implicit' to lift the viscous limit).");
+	}
+	return msg.str();
+}
+
+std::string ViscBridgeGuard::diagnose(Body::id_t worst, const std::string& what)
+{
+	std::ostringstream msg;
+	msg.precision(4);
+	msg << "ViscBridgeGuard stopped the run at step " << scene->iter << " (t = " << scene->time << " s, dt = " << scene->dt << " s): " << what << ".";
+	const bool implicit = viscousIntegrationIsImplicit(scene);
+	const auto& functors = ViscBridgeContext::of(scene).functors(scene);
+	// a tangential model that is not dissipative can put energy in by itself (physics.md P7)
+	const bool washino = functors.ip2 && !viscbridge::TangentialModels::capabilities[functors.ip2->selection.tangential].dissipative;
+	bound.evaluate(scene, implicit, 0.4);
+	distributed::reduceTimeStepBound(scene, bound.collision, bound.viscous, bound.combined, bound.criticalBody); // [MPI] all ranks
+	if (washino)
+		msg << " The scene uses tangentialModel='" << functors.ip2->tangentialModel << "', which is not dissipative (physics.md P7): it can "
+		    << "create kinetic energy at any time step, so this gain may be the model's rather than an unstable time step; 'slip' and "
+		       "'goldman' are dissipative.";
+	if (worst >= 0 && Body::byId(worst, scene)) {
+		const Body& b = *Body::byId(worst, scene);
+		msg << " Body #" << worst << " at " << vec(b.state->pos) << ", velocity " << vec(b.state->vel) << ".";
+		// its most demanding interaction: the smallest explicit limit
+		Real                  tightest = std::numeric_limits<Real>::infinity();
+		const Interaction*    which    = nullptr;
+		const ViscBridgePhys* phys     = nullptr;
+		for (const auto& kv : b.intrs) {
+			const Interaction* I = kv.second.get();
+			if (!I->isReal()) continue;
+			const auto* ph = dynamic_cast<const ViscBridgePhys*>(I->phys.get());
+			if (!ph) continue;
+			const Real c     = (ph->bridge && !implicit) ? ph->viscousStepCoefficient : 0;
+			const Real limit = viscbridge::networkLimit(c / ph->mEff, (ph->kn + 3.5 * ph->ks) / ph->mEff);
+			if (limit < tightest) {
+				tightest = limit;
+				which    = I;
+				phys     = ph;
+			}
+		}
+		if (which) {
+			msg << " Its most demanding interaction #" << which->getId1() << "+#" << which->getId2() << ": gap S = " << phys->separation << " m"
+			    << (phys->bridge ? " with a bridge" : " without bridge") << ", C_n = " << phys->cn << " N·s/m (" << phys->viscousStepCoefficient
+			    << " at S_min = " << phys->sMin << " m incl. tangential), C_T = " << phys->ct << " N·s/m, k_n = " << phys->kn
+			    << " N/m, m* = " << phys->mEff << " kg. ";
+			const Real tv = phys->viscousStepCoefficient > 0 ? phys->mEff / phys->viscousStepCoefficient : std::numeric_limits<Real>::infinity();
+			if (!implicit && phys->bridge && scene->dt > 2 * tv)
+				msg << "Violated: the explicit viscous pair limit dt < 2 m*/(C_n + w_t C_t) = " << 2 * tv << " s (physics.md P12, P14a).";
+			else if (scene->dt > tightest)
+				msg << "Violated: the pair limit 4m*/(C + sqrt(C² + 4m*k)) = " << tightest << " s (physics.md P13).";
+			else if (scene->dt > bound.combined)
+				msg << "dt is within this pair's limit (" << tightest << " s) but above the network bound P14 of the current contacts ("
+				    << bound.combined << " s), below which stability is guaranteed.";
+			else
+				msg << "dt is within this pair's limit (" << tightest << " s) and the network bound P14 (" << bound.combined << " s).";
+		}
+	}
+	msg << safeStepAdvice(implicit, washino);
+	return msg.str();
+}
+
+void ViscBridgeGuard::action()
+{
+	// [MPI] an error found on any rank (e.g. by the law) stops every rank, with the same message
+	const std::string pending = distributed::firstError(scene, ViscBridgeContext::of(scene).takePendingError());
+	if (!pending.empty()) {
+		lastError = pending;
+		throw std::runtime_error(pending);
+	}
+	bool         newRun    = startsNewRun();
+	const size_t signature = sceneSignature(scene) ^ distributed::ownedBodiesSignature(scene); // [MPI] bodies moved between ranks
+	bool         changed   = signature != checkedSignature || scene->iter == 0;
+	// [MPI] every rank takes the same branch below (a collective in one is awaited by all) and steps
+	// with the same dt (no-op serially)
+	agreeWithOtherRanks(changed, newRun);
+	if (changed) {
+		try {
+			distributed::collectively(scene, [&] { validateScene(scene, true); }); // [MPI] one rank's error stops all
+		} catch (const std::exception& e) {
+			lastError = e.what(); // readable even where YADE's O.run(n, True) loses a first-step error
+			throw;
+		}
+		checkedSignature = signature;
+		referencePending = true;
+	} else if (referencePending || rebaselineRequested) {
+		if (rebaselineRequested) ++rebaselines;
+		takeReference(0);
+	} else {
+		if (newRun) {
+			takeReference(lastSlack);
+			++rebaselines;
+		}
+		accumulateBoundaryWork(newRun);
+		if (scene->iter % iterPeriod == 0) checkEnergy();
+	}
+	lastCallEnd = Clock::now();
+}
+
+} // namespace yade

@@ -1,0 +1,378 @@
+#include "viscbridge/engines/ViscBridgeImplicitSolver.hpp"
+#include "viscbridge/distributed/Distributed.hpp"
+#include "viscbridge/distributed/ImplicitSolveOverRanks.hpp"
+#include "viscbridge/yade/ViscBridgePhys.hpp"
+#include "viscbridge/core/linalg/ImplicitViscousSystem.hpp"
+#include "viscbridge/core/util/Validation.hpp"
+#include "viscbridge/scene/SceneValidation.hpp"
+#include <core/Scene.hpp>
+#include <pkg/dem/NewtonIntegrator.hpp>
+#include <pkg/dem/ScGeom.hpp>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <limits>
+
+namespace yade {
+
+CREATE_LOGGER(ViscBridgeImplicitSolver);
+
+namespace {
+	// the preconditioners, by name (the first is the default)
+	constexpr std::array<const char*, 2> preconditionerNames { "cholesky", "jacobi" };
+}
+
+void ViscBridgeImplicitSolver::postLoad(ViscBridgeImplicitSolver&)
+{
+	static const std::string name = "ViscBridgeImplicitSolver";
+	rollback.check(checked(), [&] {
+		viscbridge::requireInRange(name, "tolerance", tolerance, 0, true, 1, true);
+		viscbridge::requireInRange(name, "maxIterations", maxIterations, 1, false, 1e9, false);
+		viscbridge::requireInRange(name, "refreshIterations", refreshIterations, 1, false, 1e9, false);
+		viscbridge::parseName(name, "preconditioner", preconditioner, preconditionerNames, "preconditioner");
+	});
+}
+
+namespace {
+	namespace vb = viscbridge;
+	using Clock  = std::chrono::steady_clock;
+	Real seconds(Clock::time_point since) { return std::chrono::duration<Real>(Clock::now() - since).count(); }
+}
+
+// The work of the last step's forces, now that Newton has reported the kinetic energy they produced.
+void ViscBridgeImplicitSolver::bookPendingWork()
+{
+	if (!pendingWork) return;
+	if (scene->trackEnergy) {
+		bookKey(vb::EnergyKey::viscDissipNormal, pendingNormal);
+		if (pendingTangentialKeys) {
+			bookKey(vb::EnergyKey::viscDissipTangential, pendingTangential);
+			bookKey(vb::EnergyKey::viscDissipRotational, pendingRotational);
+		}
+	}
+	pendingWork = false;
+}
+
+void ViscBridgeImplicitSolver::bookKey(vb::EnergyKey key, Real value)
+{
+	const vb::EnergyKeySpec& spec = vb::spec(key);
+	scene->energy->add(value, spec.name, energyIndex[static_cast<std::size_t>(key)], spec.reset);
+}
+
+struct ViscBridgeImplicitSolver::Gathered {
+	std::vector<Interaction*>    described; // the bridges, in the system's order
+	std::vector<ViscBridgePhys*> owners;
+	std::vector<std::array<Body::id_t, 2>> ends; // their bodies' ids
+	std::vector<Body::id_t>      ids; // the system's bodies, ordered by id (same bodies, same system)
+	std::vector<vb::SystemBody>  bodies;
+	std::vector<vb::SystemBridge> system;
+	std::vector<long>            pattern; // bodies with their free components, and bridges (in the interactions' order): decides whether the factor's analysis still holds
+};
+
+void ViscBridgeImplicitSolver::action()
+{
+	auto phase = Clock::now();
+	auto lap   = [&phase](Real& total) {
+                total += seconds(phase);
+                phase = Clock::now();
+	};
+	bookPendingWork();
+	const NewtonIntegrator& newton = checkScene();
+	Gathered                g      = gather(newton);
+	bridges                        = static_cast<int>(g.system.size());
+	if (!distributed::any(scene, !g.system.empty())) { // [MPI] a rank without bridges still takes part while others have some
+		iterations = 0;
+		residual   = 0;
+		return;
+	}
+	const vb::ImplicitViscousSystem sys(std::move(g.bodies), std::move(g.system), scene->dt);
+	Eigen::VectorXd                 x = warmStartGuess(sys, g.ids);
+	lap(timeGather);
+	const vb::Preconditioner* pre = refreshPreconditioner(sys, g.pattern);
+	lap(timeFactorise);
+	solve(sys, g.ids, x, pre);
+	lap(timeSolve);
+	const std::vector<vb::BridgeResistance> R = sys.bridgeForces(x);
+	applyForces(sys, g.ids, x, R);
+	lap(timeApply);
+	bookEnergy(sys, g, x, R);
+	lap(timeEnergy);
+}
+
+const NewtonIntegrator& ViscBridgeImplicitSolver::checkScene()
+{
+	const NewtonIntegrator* newton = nullptr;
+	for (const auto& e : scene->engines)
+		if (const auto* n = dynamic_cast<const NewtonIntegrator*>(e.get())) newton = n;
+	if (!newton) throw std::runtime_error("ViscBridgeImplicitSolver: no NewtonIntegrator in O.engines; the implicit velocities need it.");
+	if (newton->damping != 0)
+		throw std::invalid_argument(
+		        "ViscBridgeImplicitSolver: NewtonIntegrator.damping=" + vb::formatValue(newton->damping)
+		        + " is out of range with implicit viscous integration; allowed: 0 (numerical damping would move the velocities off the implicit solution).");
+	const size_t signature = sceneSignature(scene);
+	if (signature != validatedSignature) { // e.g. a non-dissipative tangential model, or clumps
+		validateScene(scene, false);
+		validatedSignature = signature;
+	}
+	return *newton;
+}
+
+// The bridges the law described this step, and the bodies they touch with every other force of the
+// step (gravity included, as Newton will add it).  The scans run on all threads; every list comes
+// out in the same order as from one thread.
+ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const NewtonIntegrator& newton)
+{
+	scene->forces.sync();
+	Gathered g;
+	describedBridges(g);
+	touched.assign(scene->bodies->size(), -1);
+	for (const auto& [id1, id2] : g.ends)
+		touched[id1] = touched[id2] = 0;
+	for (Body::id_t id = 0; id < static_cast<Body::id_t>(touched.size()); ++id)
+		if (touched[id] >= 0) {
+			touched[id] = static_cast<int>(g.ids.size());
+			g.ids.push_back(id);
+		}
+	const long nBodies = static_cast<long>(g.ids.size()), nBridges = static_cast<long>(g.described.size());
+	g.bodies.resize(nBodies);
+	g.system.resize(nBridges);
+	g.pattern.resize(nBodies + nBridges);
+	const auto own     = distributed::ownership(scene); // [MPI] a rank solves for its own bodies
+	long       clumped = std::numeric_limits<long>::max(); // the first clump member, if any
+#pragma omp parallel
+	{
+#pragma omp for schedule(static) reduction(min : clumped)
+		for (long i = 0; i < nBodies; ++i) {
+			const Body& b = *Body::byId(g.ids[i], scene);
+			if (b.isClumpMember()) clumped = std::min<long>(clumped, b.id);
+			g.bodies[i]   = systemBody(b, own.body(b), newton.gravity);
+			long freeBits = 0;
+			for (int d = 0; d < 6; ++d)
+				freeBits |= g.bodies[i].free[d] ? (1L << d) : 0;
+			g.pattern[i] = g.ids[i] * 64 + freeBits;
+		}
+#pragma omp for schedule(static)
+		for (long k = 0; k < nBridges; ++k) {
+			vb::SystemBridge& c = g.system[k];
+			c.body1             = touched[g.ends[k][0]];
+			c.body2             = touched[g.ends[k][1]];
+			c.block             = g.owners[k]->implicitBlock;
+			c.shiftVel          = scene->isPeriodic ? Vector3r(scene->cell->intrShiftVel(g.described[k]->cellDist)) : Vector3r::Zero();
+			g.pattern[nBodies + k] = -(static_cast<long>(std::min(c.body1, c.body2)) * (1L << 31) + std::max(c.body1, c.body2)) - 1;
+		}
+	}
+	if (clumped != std::numeric_limits<long>::max())
+		throw std::invalid_argument("ViscBridgeImplicitSolver: body #" + std::to_string(clumped) + " is a member of clump #"
+		                            + std::to_string(Body::byId(clumped, scene)->clumpId)
+		                            + ", and clumps are not integrated implicitly (a member moves with its clump); use integration='explicit' for scenes with clumps.");
+	return g;
+}
+
+// The bridges the law described this step, in the interactions' order: tested on all threads
+// (following the pointers to each interaction and its physics is the cost), collected in order.
+void ViscBridgeImplicitSolver::describedBridges(Gathered& g) const
+{
+	InteractionContainer&                    all     = *scene->interactions; // (its size() is not const)
+	const long                               n       = static_cast<long>(all.size());
+	const int                                vbIndex = ViscBridgePhys::getClassIndexStatic();
+	const long                               iter    = scene->iter;
+	bridgeOf.assign(n, nullptr);
+	endsOf.resize(n); // read only where bridgeOf is set
+#pragma omp parallel for schedule(static)
+	for (long k = 0; k < n; ++k) {
+		const Interaction& I = *all[k];
+		if (!I.isReal() || I.phys->getClassIndex() != vbIndex) continue;
+		auto* ph = static_cast<ViscBridgePhys*>(I.phys.get());
+		if (ph->bridge && ph->implicitBlock.valid && ph->implicitBlockIter == iter) bridgeOf[k] = ph, endsOf[k] = { I.getId1(), I.getId2() };
+	}
+	for (long k = 0; k < n; ++k)
+		if (bridgeOf[k]) {
+			g.described.push_back(all[k].get());
+			g.owners.push_back(bridgeOf[k]);
+			g.ends.push_back(endsOf[k]);
+		}
+}
+
+vb::SystemBody ViscBridgeImplicitSolver::systemBody(const Body& b, bool owned, const Vector3r& gravity) const
+{
+	const State&   st = *b.state;
+	vb::SystemBody sb;
+	sb.mass    = st.mass;
+	sb.inertia = st.inertia[0];
+	sb.vel     = st.vel;
+	sb.angVel  = st.angVel;
+	const bool moves = b.isDynamic() && st.mass > 0 && owned; // [MPI] other ranks' bodies: ghosts (prescribed here)
+	for (int d = 0; d < 6; ++d)
+		sb.free[d] = moves && !(st.blockedDOFs & State::axisDOF(d % 3, d >= 3));
+	if (moves) {
+		sb.force  = scene->forces.getForce(b.id);
+		sb.torque = scene->forces.getTorque(b.id);
+		for (int d = 0; d < 3; ++d)
+			if (sb.free[d]) sb.force[d] += st.mass * gravity[d]; // Newton adds gravity to unblocked components
+	}
+	return sb;
+}
+
+// The velocities last step's viscous forces would give now (else the current ones).
+Eigen::VectorXd ViscBridgeImplicitSolver::warmStartGuess(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids) const
+{
+	Eigen::VectorXd x = sys.currentVelocities();
+	if (!warmStart || lastViscousForce.size() != scene->bodies->size()) return x;
+	for (size_t i = 0; i < ids.size(); ++i) {
+		const vb::SystemBody& b = sys.bodies()[i];
+		if (b.mass > 0) x.segment<3>(6 * i) += scene->dt * (b.force + lastViscousForce[ids[i]]) / b.mass;
+		if (b.inertia > 0) x.segment<3>(6 * i + 3) += scene->dt * (b.torque + lastViscousTorque[ids[i]]) / b.inertia;
+	}
+	return x;
+}
+
+// The lagged factorisation, refactorised when the bridges or free components changed, when a refresh
+// pays (renewal: the last solve's iterations c_T reach the cycle's average cost per step
+// (refreshCost + Σ c_i)/T, which a later refresh could only raise while the iterations grow), or
+// when the last solve needed more than refreshIterations iterations.  The analysis is kept if only
+// the numbers changed.
+const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const vb::ImplicitViscousSystem& sys, const std::vector<long>& pattern)
+{
+	if (preconditioner != preconditionerNames[0] || sys.size() == 0) return nullptr;
+	// The same bodies and bridges: usually in the same order as at the factorisation (YADE reorders its
+	// interactions only when some are erased), else the same set once sorted.
+	std::vector<long> sorted;
+	auto              sortedPattern = [&]() -> const std::vector<long>& {
+                if (sorted.empty()) {
+                        sorted = pattern;
+                        std::sort(sorted.begin(), sorted.end());
+                }
+                return sorted;
+	};
+	const bool samePattern = factorisation && factorisation->matches(sys.size()) && (pattern == factorisedOrder || sortedPattern() == factorisedPattern);
+	const bool pays = cycleSolves > 0 && static_cast<double>(lastIterationsSeen) * cycleSolves >= refreshCost + cycleIterations;
+	if (samePattern && !pays && lastIterationsSeen <= refreshIterations && factorisedIter >= 0) return factorisation.get();
+	if (!factorisation) factorisation = shared_ptr<vb::LaggedCholesky>(new vb::LaggedCholesky);
+	if (!factorisation->refresh(sys, samePattern)) {
+		factorisation.reset(); // not positive definite: CG with block Jacobi, then the fallback
+		factorisedPattern.clear();
+		factorisedOrder.clear();
+		return nullptr;
+	}
+	factorisedPattern = sortedPattern();
+	factorisedOrder   = pattern;
+	factorisedIter    = scene->iter;
+	factorBlocks      = static_cast<long>(factorisation->factor().offDiagonalBlocks());
+	refreshCost       = factorisation->refreshCost(sys.bridges().size());
+	cycleSolves = cycleIterations = 0;
+	++factorisations;
+	return factorisation.get();
+}
+
+void ViscBridgeImplicitSolver::solve(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, Eigen::VectorXd& x, const vb::Preconditioner* pre)
+{
+	// [MPI] under yade.mpy: one system over all ranks (CG with the ghosts' velocities exchanged)
+	const vb::SolveReport rep = distributed::active(scene) ? solveOverRanks(scene, sys, ids, x, tolerance, maxIterations, pre)
+	                                                       : sys.solve(x, tolerance, maxIterations, pre);
+	lastIterationsSeen = rep.iterations;
+	++cycleSolves;
+	cycleIterations += rep.iterations;
+	unknowns           = 0;
+	for (size_t d = 0; d < sys.size(); ++d)
+		unknowns += sys.isFree(d) ? 1 : 0;
+	iterations = rep.iterations;
+	residual   = rep.residual;
+	totalIterations += rep.iterations;
+	products += rep.products;
+	timeProducts += rep.productSeconds;
+	timePreconditioner += rep.preconditionerSeconds;
+	++solves;
+	if (rep.direct) {
+		++fallbacks;
+		LOG_WARN("ViscBridgeImplicitSolver: CG did not reach tolerance " << tolerance << " in " << maxIterations << " iterations at step " << scene->iter
+		                                                                 << "; solved with the sparse Cholesky fallback (relative residual " << residual << ").");
+	}
+	if (!rep.converged && distributed::active(scene)) // [MPI] the same on every rank: there is no direct fallback over ranks
+		throw std::runtime_error("ViscBridgeImplicitSolver: CG over the " + std::to_string(distributed::ranks(scene)) + " ranks of yade.mpy did not reach tolerance "
+		                         + vb::formatValue(tolerance) + " in maxIterations=" + std::to_string(maxIterations) + " at step " + std::to_string(scene->iter)
+		                         + " (relative residual " + vb::formatValue(rep.residual) + "); raise ViscBridgeImplicitSolver.maxIterations.");
+	if (!rep.converged || !x.allFinite())
+		throw std::runtime_error("ViscBridgeImplicitSolver: the implicit viscous system could not be solved at step " + std::to_string(scene->iter)
+		                         + " (relative residual " + vb::formatValue(rep.residual) + " after CG and the direct fallback).");
+}
+
+// The viscous forces that make NewtonIntegrator land on x: M(x − v)/Δt − F_other on free
+// components; on prescribed ones (walls, fixed bodies, blocked DOFs) what the bridges exert.
+void ViscBridgeImplicitSolver::applyForces(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+                                           const std::vector<vb::BridgeResistance>& R)
+{
+	const long nBodies = static_cast<long>(ids.size());
+	if (warmStart) {
+		lastViscousForce.resize(scene->bodies->size(), Vector3r::Zero());
+		lastViscousTorque.resize(scene->bodies->size(), Vector3r::Zero());
+	}
+	const Real dt = scene->dt;
+#pragma omp parallel for schedule(static)
+	for (long i = 0; i < nBodies; ++i) {
+		const vb::SystemBody& b = sys.bodies()[i];
+		Vector3r              f, t; // what the bridges exert: −(D v)
+		sys.resultantOn(i, R, f, t);
+		f = -f, t = -t;
+		if (warmStart) lastViscousForce[ids[i]] = f, lastViscousTorque[ids[i]] = t;
+		for (int d = 0; d < 3; ++d) {
+			if (b.free[d]) f[d] = b.mass * (x[6 * i + d] - b.vel[d]) / dt - b.force[d];
+			if (b.free[d + 3]) t[d] = b.inertia * (x[6 * i + 3 + d] - b.angVel[d]) / dt - b.torque[d];
+		}
+		scene->forces.addForce(ids[i], f);
+		scene->forces.addTorque(ids[i], t);
+	}
+}
+
+// What each bridge reports, and the work of its forces over the step, from the velocities the step
+// started with and the implicit ones it ends with (physics.md §6); booked at the next step.
+void ViscBridgeImplicitSolver::bookEnergy(const vb::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
+                                          const std::vector<vb::BridgeResistance>& R)
+{
+	const auto own = distributed::ownership(scene);
+	const Real dt  = scene->dt;
+	const long m   = static_cast<long>(R.size());
+	const Eigen::VectorXd v0 = scene->trackEnergy ? sys.currentVelocities() : Eigen::VectorXd(); // the work needs the step's start
+	std::vector<std::array<Real, 3>> work(scene->trackEnergy ? m : 0, { 0, 0, 0 }); // per bridge: normal, sliding, rolling
+	std::vector<char>                tangential(work.size(), 0);
+#pragma omp parallel for schedule(static)
+	for (long k = 0; k < m; ++k) {
+		const vb::SystemBridge& c  = sys.bridges()[k];
+		const vb::ViscousBlock& bl = c.block;
+		ViscBridgePhys&         ph = *g.owners[k];
+		auto kinematics = [&](const Eigen::VectorXd& v, Vector3r& u, Vector3r& s) {
+			const Vector3r v1 = v.segment<3>(6 * c.body1), w1 = v.segment<3>(6 * c.body1 + 3), v2 = v.segment<3>(6 * c.body2),
+			               w2 = v.segment<3>(6 * c.body2 + 3);
+			const Vector3r dv = (v1 + w1.cross(bl.r1)) - (v2 + w2.cross(bl.r2) + c.shiftVel);
+			const Real     vn = bl.n.dot(dv);
+			u                 = dv - vn * bl.n;
+			s                 = (bl.a1 * w1 + bl.a2 * w2).cross(bl.n);
+			return vn;
+		};
+		Vector3r   u1, s1, u0, s0;
+		const Real vn1 = kinematics(x, u1, s1);
+		const Vector3r normal = -bl.cn * vn1 * bl.n;
+		ph.normalViscousForce = normal;
+		ph.shearViscousForce  = -R[k].force1 - normal;
+		ph.normalForce -= normal; // YADE sense (sustained by body 2)
+		ph.shearForce -= ph.shearViscousForce;
+		if (scene->trackEnergy && own.interaction(*g.described[k], scene)) { // [MPI] a shared bridge is booked by one rank
+			tangential[k]            = bl.resistance.m11 != 0 || bl.resistance.m22 != 0;
+			const Real vn0           = kinematics(v0, u0, s0);
+			const vb::TangentialWork w = vb::tangentialWork(bl.resistance, u1, s1, u0, s0);
+			work[k]                  = { bl.cn * vn1 * 0.5 * (vn1 + vn0) * dt, w.sliding * dt, w.rolling * dt };
+		}
+	}
+	Real dissipN = 0, dissipT = 0, dissipR = 0; // summed in the bridges' order: the same on any number of threads
+	for (const auto& w : work)
+		dissipN += w[0], dissipT += w[1], dissipR += w[2];
+	const bool tangentialEffect = std::any_of(tangential.begin(), tangential.end(), [](char t) { return t != 0; });
+	if (scene->trackEnergy) {
+		pendingNormal         = dissipN;
+		pendingTangential     = dissipT;
+		pendingRotational     = dissipR;
+		pendingTangentialKeys = tangentialEffect;
+		pendingWork           = true;
+	}
+}
+
+} // namespace yade

@@ -1,0 +1,125 @@
+// ViscBridgeImplicitSolver: backward Euler for the viscous bridge forces over the whole contact
+// network (physics.md §4, P15), between InteractionLoop and NewtonIntegrator.
+#pragma once
+#include <array>
+#include <core/Body.hpp>
+#include <core/GlobalEngine.hpp>
+#include "viscbridge/core/linalg/ImplicitViscousSystem.hpp"
+#include "viscbridge/core/models/EnergyKeys.hpp"
+#include "viscbridge/yade/AttributeRollback.hpp"
+#include <lib/base/openmp-accu.hpp>
+
+namespace yade {
+
+class NewtonIntegrator;
+class ViscBridgePhys;
+
+class ViscBridgeImplicitSolver : public GlobalEngine {
+	std::vector<Vector3r> lastViscousForce, lastViscousTorque; // per body id, for the warm start
+	// The lagged factorisation and what it was computed for (bodies, bridges, free components).
+	shared_ptr<viscbridge::LaggedCholesky> factorisation;
+	std::vector<long>                      factorisedPattern, factorisedOrder; // sorted (the set), and as gathered (the order, to skip the sort when unchanged)
+	long                                   factorisedIter = -1;
+	int                                    lastIterationsSeen = 0;
+	long                                   cycleSolves = 0, cycleIterations = 0; // since the last refresh
+	size_t                                 validatedSignature = 0; // sceneSignature() of the last validated scene
+	AttributeRollback<Real, int, int, std::string> rollback;
+	auto checked() { return std::tie(tolerance, maxIterations, refreshIterations, preconditioner); }
+	std::array<int, viscbridge::energyKeyCount> energyIndex; // O.energy slots of the keys it books
+	void bookKey(viscbridge::EnergyKey key, Real value);
+
+	// The steps of action(), in order.
+	struct Gathered; // the bridges the law described this step and the bodies they touch
+	const NewtonIntegrator&       checkScene();
+	void                          bookPendingWork();
+	Gathered                      gather(const NewtonIntegrator& newton);
+	void                          describedBridges(Gathered& g) const;
+	viscbridge::SystemBody        systemBody(const Body& b, bool owned, const Vector3r& gravity) const;
+	std::vector<int>              touched; // workspace of gather(): per body id, its index in the system (−1: none)
+	// workspace of describedBridges(): per interaction, its physics if it is a bridge described this step, and its bodies
+	mutable std::vector<ViscBridgePhys*>           bridgeOf;
+	mutable std::vector<std::array<Body::id_t, 2>> endsOf;
+	Eigen::VectorXd               warmStartGuess(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids) const;
+	const viscbridge::Preconditioner* refreshPreconditioner(const viscbridge::ImplicitViscousSystem& sys, const std::vector<long>& pattern);
+	void solve(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, Eigen::VectorXd& x, const viscbridge::Preconditioner* pre);
+	void applyForces(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+	                 const std::vector<viscbridge::BridgeResistance>& R);
+	void bookEnergy(const viscbridge::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x, const std::vector<viscbridge::BridgeResistance>& R);
+
+public:
+	void action() override;
+	void postLoad(ViscBridgeImplicitSolver&);
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR(ViscBridgeImplicitSolver, GlobalEngine,
+		"Solves $(M+\\Delta t D)\\,v_{n+1/2} = M v_{n-1/2} + \\Delta t F_{other}$ for the translational "
+		"and rotational velocities of every body that has a liquid bridge (P15), where $D$ collects "
+		"the damping of every active bridge and every selected viscous effect (normal and tangential "
+		"models, walls and fixed or blocked degrees of freedom as boundary conditions) and "
+		"$F_{other}$ is every other force of the step (contacts, gravity, other laws). It then adds the "
+		"viscous forces and torques $M(v_{n+1/2}-v_{n-1/2})/\\Delta t - F_{other}$, so that "
+		":yref:`NewtonIntegrator` lands exactly on the implicit velocities. Backward Euler is "
+		"unconditionally stable for the viscous part: the time step is left to the contact stiffness "
+		"(:yref:`ViscBridgeTimeStepper` drops its viscous bound). First order in $\\Delta t$.\n\n"
+		"Needs :yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous.integration` = 'implicit' (the law then "
+		"describes its bridges' damping instead of applying the forces), a dissipative tangential "
+		"model ('none', 'slip' or 'goldman'; 'washino' is not dissipative and is refused), and "
+		":yref:`NewtonIntegrator.damping` = 0. Place it after the time stepper and before "
+		":yref:`NewtonIntegrator` (:yref:`viscbridge.engines(integration='implicit')` does).\n\n"
+		"The linear system is solved matrix-free by preconditioned conjugate gradients to the relative "
+		"residual `tolerance`, warm-started from the last step's viscous forces; the matrix products run "
+		"in parallel with OpenMP. The default preconditioner is a Cholesky factorisation of the "
+		"system in 6×6 blocks (one block row per body; a large system is bisected so that two threads "
+		"factorise and apply it side by side) that is kept while the bridges stay the same and "
+		"refreshed when that pays: when the last solve's iterations reach the average cost per step since "
+		"the last refresh, the refresh's own cost (refreshCost, in iterations) included — the renewal "
+		"rule that minimises the average — or when they exceed refreshIterations (bridges below $S_{min}$ have "
+		"constant coefficients, so it stays nearly exact; it ages as the bridges' normals turn); 'jacobi' uses 6×6 blocks per body instead (no factorisation, but hundreds of "
+		"iterations when Δt·C/m is large). If CG does not converge within maxIterations, the "
+		"assembled system is factorised and solved directly instead, with a warning and `fallbacks` "
+		"counting it; if that fails too, the run stops with an error.\n\n"
+		"Counters: iterations, totalIterations, products, solves, factorisations (refreshes), fallbacks, "
+		"factorBlocks, refreshCost; and the wall time of each step of the engine (gather, refresh, solve with its "
+		"products and preconditioner, apply, book energy) in timeGather … timeEnergy.\n\n"
+		"Under yade.mpy (docs/cluster.md) it solves one system over all ranks: each rank holds its own bodies' rows, the "
+		"velocities of the neighbours' bodies its bridges touch are exchanged at every CG iteration, and the residual is "
+		"global (same tolerance as serially; preconditioner: each rank's own block, no direct fallback).",
+		((Real,tolerance,1e-6,Attr::triggerPostLoad,"Relative residual ‖r‖/‖b‖ at which CG stops, in (0, 1). The default adds an error far below the scheme's own (bench/accuracy_cost.py, docs/performance.md §1); 1e-9 costs about two more iterations per step."))
+		((int,maxIterations,500,Attr::triggerPostLoad,"CG iterations before the direct fallback, >= 1."))
+		((bool,warmStart,true,,"Start CG from the velocities the last step's viscous forces would give (else from the current velocities)."))
+		((string,preconditioner,"cholesky",Attr::triggerPostLoad,"'cholesky' (lagged sparse factorisation) or 'jacobi' (6×6 blocks per body)."))
+		((int,refreshIterations,12,Attr::triggerPostLoad,"With 'cholesky': refactorise at the latest when the last solve took more CG iterations than this, >= 1 (earlier when the renewal rule says a refresh pays; the factor ages as the bridges' normals turn: docs/performance.md §2)."))
+		((long,factorisations,0,Attr::readonly,"Cholesky factorisations done (preconditioner refreshes)."))
+		((int,iterations,0,Attr::readonly,"CG iterations of the last solve."))
+		((Real,residual,0,Attr::readonly,"Relative residual of the last solve."))
+		((long,totalIterations,0,Attr::readonly,"CG iterations of all solves (totalIterations/solves: iterations per step)."))
+		((long,products,0,Attr::readonly|Attr::noSave,"Matrix-free products $(M+\\Delta t D)x$ of all solves (one per iteration, one per solve for the start)."))
+		((long,solves,0,Attr::readonly,"Number of solves (steps with at least one bridge)."))
+		((long,fallbacks,0,Attr::readonly,"Solves that needed the direct (sparse Cholesky) fallback."))
+		((int,unknowns,0,Attr::readonly,"Free velocity components in the last solve."))
+		((int,bridges,0,Attr::readonly,"Bridges in the last solve."))
+		((long,factorBlocks,0,Attr::readonly|Attr::noSave,"6×6 blocks below the diagonal of the last factorisation (fill included)."))
+		((Real,refreshCost,0,Attr::readonly|Attr::noSave,"Estimated cost of one refresh (assembly and factorisation) in CG iterations, from the factor's structure; weighs the renewal rule."))
+		((Real,timeGather,0,Attr::readonly|Attr::noSave,"Wall time of the step 'gather': collecting bodies and bridges, building the system and the start vector, all solves [s]."))
+		((Real,timeFactorise,0,Attr::readonly|Attr::noSave,"Wall time of the step 'refresh': assembling and factorising the preconditioner [s]."))
+		((Real,timeSolve,0,Attr::readonly|Attr::noSave,"Wall time of the step 'solve': conjugate gradients (and fallbacks), of which timeProducts and timePreconditioner [s]."))
+		((Real,timeProducts,0,Attr::readonly|Attr::noSave,"Wall time of the matrix-free products inside 'solve' [s]."))
+		((Real,timePreconditioner,0,Attr::readonly|Attr::noSave,"Wall time of the preconditioner applications inside 'solve' [s]."))
+		((Real,timeApply,0,Attr::readonly|Attr::noSave,"Wall time of the step 'apply': the forces and torques that land Newton on the solution [s]."))
+		((Real,timeEnergy,0,Attr::readonly|Attr::noSave,"Wall time of the step 'book energy': each bridge's reported forces and the viscous work [s]."))
+		// Work of the last solve's forces, booked at the next step, when NewtonIntegrator reports the
+		// kinetic energy of the velocities they produced (the same alignment as the explicit law).
+		// Saved with the scene, so that a run continued after O.save/O.load books the same energy.
+		((Real,pendingNormal,0,Attr::hidden,"Normal viscous work of the last solve, not yet booked."))
+		((Real,pendingTangential,0,Attr::hidden,"Tangential viscous work of the last solve, not yet booked."))
+		((Real,pendingRotational,0,Attr::hidden,"Rotational viscous work of the last solve, not yet booked."))
+		((bool,pendingWork,false,Attr::hidden,"Whether pending* hold work not yet booked."))
+		((bool,pendingTangentialKeys,false,Attr::hidden,"Whether the tangential and rotational keys are booked."))
+		,
+		/* ctor */ rollback.keep(checked()); energyIndex.fill(-1);
+	);
+	// clang-format on
+	DECLARE_LOGGER;
+};
+REGISTER_SERIALIZABLE(ViscBridgeImplicitSolver);
+
+} // namespace yade

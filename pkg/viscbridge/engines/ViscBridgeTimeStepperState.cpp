@@ -1,0 +1,176 @@
+// What a saved scene needs to resume exactly: the stepper's state between full updates (the warm
+// start, the corrections for bridges formed since, the bounds of the last evaluation), packed into
+// the hidden attribute savedState when saving and unpacked when loading. Without it a loaded scene
+// would start the mode iteration afresh and take a dt that differs within the tolerance.
+//
+// The state holds for the network it was computed on: the saved bridges, each with its viscous and
+// capillary coefficients.  A bridge the loaded scene has beyond them — formed in the first step
+// after loading, when the stepper does not take the law's bridge events yet, or re-created by the user (e.g. the
+// interactions cleared and the liquid changed) — enters as a formation, with the same correction
+// the law's report would have given; a scene of another step, other bodies or another integration
+// gets a fresh full update.
+#include "viscbridge/engines/ViscBridgeTimeStepper.hpp"
+#include "viscbridge/scene/SceneValidation.hpp"
+#include <boost/functional/hash.hpp>
+#include <core/Omega.hpp>
+#include <algorithm>
+#include <stdexcept>
+
+namespace yade {
+
+namespace {
+	constexpr Real stateLayout = 3; // bump when the packing below changes (2: without the bridges)
+
+	// What the saved state belongs to: the same step, bodies, masses, interactions and integration.
+	size_t stateSignature(const Scene* scene)
+	{
+		size_t h = 0;
+		boost::hash_combine(h, scene->iter);
+		boost::hash_combine(h, scene->bodies->size());
+		boost::hash_combine(h, scene->materials.size());
+		boost::hash_combine(h, scene->interactions->size());
+		boost::hash_combine(h, viscousIntegrationIsImplicit(scene));
+		for (const auto& b : *scene->bodies)
+			if (b) boost::hash_combine(h, b->state->mass);
+		return h;
+	}
+
+	// A bridge as the time step sees it: its bodies and its P14 coefficients (rebuilt identically
+	// when a scene is loaded).
+	size_t bridgeKey(const Interaction& I, const ViscBridgePhys& ph)
+	{
+		size_t h = 0;
+		boost::hash_combine(h, std::min(I.getId1(), I.getId2()));
+		boost::hash_combine(h, std::max(I.getId1(), I.getId2()));
+		boost::hash_combine(h, ph.viscousStepCoefficient);
+		boost::hash_combine(h, ph.capillaryStiffness);
+		return h;
+	}
+
+	// Calls f(interaction, physics) for every live bridge of the scene.
+	template <class F> void forEachBridge(const Scene* scene, F f)
+	{
+		const int vbIndex = ViscBridgePhys::getClassIndexStatic();
+		for (const auto& I : *scene->interactions)
+			if (I->isReal() && I->phys->getClassIndex() == vbIndex) {
+				const auto& ph = static_cast<const ViscBridgePhys&>(*I->phys);
+				if (ph.bridge) f(*I, ph);
+			}
+	}
+
+	std::vector<size_t> bridgeKeys(const Scene* scene)
+	{
+		std::vector<size_t> keys;
+		forEachBridge(scene, [&](const Interaction& I, const ViscBridgePhys& ph) { keys.push_back(bridgeKey(I, ph)); });
+		std::sort(keys.begin(), keys.end());
+		return keys;
+	}
+
+	// a 64-bit value in two doubles, exactly
+	void   packSignature(std::vector<Real>& out, size_t s) { out.push_back(Real(s >> 32)), out.push_back(Real(s & 0xffffffffULL)); }
+	size_t unpackSignature(Real high, Real low) { return (static_cast<size_t>(high) << 32) | static_cast<size_t>(low); }
+
+	template <class T> void pack(std::vector<Real>& out, const std::vector<T>& v)
+	{
+		out.push_back(static_cast<Real>(v.size()));
+		for (const T& x : v) out.push_back(static_cast<Real>(x));
+	}
+
+	struct Reader {
+		const std::vector<Real>& in;
+		size_t                   at = 0;
+		Real                     next()
+		{
+			if (at >= in.size()) throw std::runtime_error("ViscBridgeTimeStepper.savedState: truncated (the saved scene is damaged)");
+			return in[at++];
+		}
+		template <class T> void unpack(std::vector<T>& v)
+		{
+			v.resize(static_cast<size_t>(next()));
+			for (T& x : v) x = static_cast<T>(next());
+		}
+	};
+}
+
+void ViscBridgeTimeStepper::preSave(ViscBridgeTimeStepper&)
+{
+	savedState = { stateLayout, modeD, modeK, hP14, hAtUpdate, addedD, addedK, static_cast<Real>(lastUpdateIter), criticalShare,
+		       bound.collision, bound.viscous, bound.combined, bound.network, static_cast<Real>(bound.criticalBody),
+		       bound.rayleigh, bound.rayleighFractionUsed, static_cast<Real>(bound.rayleighBody), static_cast<Real>(bound.rayleighSignature) };
+	std::vector<Real> mode;
+	for (const auto& m : modeById) mode.insert(mode.end(), m.data(), m.data() + 6);
+	pack(savedState, mode);
+	pack(savedState, addedDamping);
+	pack(savedState, addedStiffness);
+	pack(savedState, changedBodies);
+	pack(savedState, bound.summed);
+	// the scene being saved is Omega's (Engine::scene can be stale for an engine not yet run in it)
+	const Scene* saved = Omega::instance().getScene().get();
+	packSignature(savedState, saved && lastUpdateIter >= 0 ? stateSignature(saved) : 0);
+	const std::vector<size_t> bridges = saved ? bridgeKeys(saved) : std::vector<size_t>();
+	savedState.push_back(static_cast<Real>(bridges.size()));
+	for (const size_t key : bridges) packSignature(savedState, key);
+}
+
+void ViscBridgeTimeStepper::reset()
+{
+	modeById.clear(), addedDamping.clear(), addedStiffness.clear(), changedBodies.clear();
+	modeD = modeK = hP14 = hAtUpdate = addedD = addedK = criticalShare = 0;
+	lastUpdateIter   = -1;
+	resumedSignature = 0;
+	savedBridges.clear();
+	validatedSignature = 0;
+	bound = NetworkTimeStepBound();
+}
+
+bool ViscBridgeTimeStepper::resumesSavedState(Scene* sc)
+{
+	const bool resumes = resumedSignature != 0 && resumedSignature == stateSignature(sc);
+	resumedSignature   = 0;
+	if (resumes) { // the bridges the saved state does not know, as formations
+		std::vector<FormedBridge> unknown;
+		forEachBridge(sc, [&](const Interaction& I, const ViscBridgePhys& ph) {
+			if (!std::binary_search(savedBridges.begin(), savedBridges.end(), bridgeKey(I, ph)))
+				unknown.push_back(formedRecord(I.getId1(), I.getId2(), ph));
+		});
+		correctForFormed(sc, unknown);
+	}
+	std::vector<size_t>().swap(savedBridges);
+	return resumes;
+}
+
+void ViscBridgeTimeStepper::postSave(ViscBridgeTimeStepper&) { savedState.clear(); }
+
+void ViscBridgeTimeStepper::restoreSavedState()
+{
+	if (savedState.empty()) return; // not loading (an attribute set from Python), or a fresh stepper
+	Reader r { savedState };
+	if (r.next() != stateLayout) { // an earlier layout: a fresh full update at the first step
+		savedState.clear();
+		return;
+	}
+	modeD = r.next(), modeK = r.next(), hP14 = r.next(), hAtUpdate = r.next(), addedD = r.next(), addedK = r.next();
+	lastUpdateIter = static_cast<long>(r.next()), criticalShare = r.next();
+	bound.collision = r.next(), bound.viscous = r.next(), bound.combined = r.next(), bound.network = r.next();
+	bound.criticalBody = static_cast<Body::id_t>(r.next());
+	bound.rayleigh = r.next(), bound.rayleighFractionUsed = r.next(), bound.rayleighBody = static_cast<Body::id_t>(r.next());
+	bound.rayleighSignature = static_cast<long>(r.next());
+	std::vector<Real> mode;
+	r.unpack(mode);
+	modeById.resize(mode.size() / 6);
+	for (size_t i = 0; i < modeById.size(); ++i) modeById[i] = Eigen::Map<const viscbridge::Vec6>(&mode[6 * i]);
+	r.unpack(addedDamping);
+	r.unpack(addedStiffness);
+	r.unpack(changedBodies);
+	r.unpack(bound.summed);
+	const Real high = r.next();
+	resumedSignature = unpackSignature(high, r.next());
+	savedBridges.resize(static_cast<size_t>(r.next()));
+	for (size_t& key : savedBridges) {
+		const Real h = r.next();
+		key          = unpackSignature(h, r.next());
+	}
+	savedState.clear();
+}
+
+} // namespace yade

@@ -1,0 +1,40 @@
+// What a ViscBridge scene must satisfy before its first step, checked by ViscBridgeGuard and
+// ViscBridgeTimeStepper (whichever runs first) so that bad input is an exception naming the
+// parameter, not a crash, a NaN or an exit() inside YADE's interaction loop.
+#pragma once
+#include <core/Scene.hpp>
+
+namespace yade {
+
+class Law2_ScGeom_ViscBridgePhys_HertzViscous;
+class Ip2_FrictMat_FrictMat_ViscBridgePhys;
+
+// The ViscBridge functors of the scene's InteractionLoop (nullptr where absent).
+struct ViscBridgeFunctors {
+	const Law2_ScGeom_ViscBridgePhys_HertzViscous* law = nullptr;
+	const Ip2_FrictMat_FrictMat_ViscBridgePhys*    ip2 = nullptr;
+	bool                                           hasLoop = false;
+};
+ViscBridgeFunctors findViscBridgeFunctors(const Scene* scene);
+
+// Whether O.engines has an engine of class `className` (by name: engines never know each other's classes).
+bool hasEngine(const Scene* scene, const std::string& className);
+
+// Changes whenever bodies, materials, engines or the functors of an InteractionLoop change (not
+// when a body is moved): the validation below is redone then.
+size_t sceneSignature(const Scene* scene);
+
+// Throws std::invalid_argument (a Python ValueError) naming the offending parameter or body.
+//   - engines: Law2_ScGeom_ViscBridgePhys_HertzViscous and Ip2_FrictMat_FrictMat_ViscBridgePhys
+//     come together; 'implicit' has ViscBridgeImplicitSolver between InteractionLoop and
+//     NewtonIntegrator, an undamped integrator, a dissipative tangential model and no clumps;
+//   - bodies: spheres have a finite radius > 0, dynamic bodies a finite mass > 0, and every body
+//     the law can meet (sphere, wall, facet, box) a FrictMat;
+//   - with checkDt, O.dt > 0.
+void validateScene(const Scene* scene, bool checkDt);
+
+// Whether the scene integrates its viscous forces implicitly (ViscBridgeTimeStepper drops the
+// viscous bound then).
+bool viscousIntegrationIsImplicit(const Scene* scene);
+
+} // namespace yade

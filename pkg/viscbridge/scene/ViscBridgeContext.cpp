@@ -1,0 +1,90 @@
+#include "viscbridge/scene/ViscBridgeContext.hpp"
+#include <core/Engine.hpp>
+#include <lib/factory/ClassFactory.hpp>
+#include <algorithm>
+#ifdef YADE_OPENMP
+#include <omp.h>
+#endif
+
+namespace yade {
+
+shared_ptr<ViscBridgeContext> ViscBridgeContext::shared(Scene* scene)
+{
+	for (const auto& p : scene->miscParams)
+		if (auto c = YADE_PTR_DYN_CAST<ViscBridgeContext>(p)) return c;
+	auto created = shared_ptr<ViscBridgeContext>(new ViscBridgeContext);
+	scene->miscParams.push_back(created);
+	return created;
+}
+
+ViscBridgeContext& ViscBridgeContext::of(Scene* scene) { return *shared(scene); }
+
+const ViscBridgeFunctors& ViscBridgeContext::functors(const Scene* scene)
+{
+	const size_t signature = sceneSignature(scene);
+	if (!functorsKnown || signature != functorsSignature) {
+		cachedFunctors    = findViscBridgeFunctors(scene);
+		functorsSignature = signature;
+		functorsKnown     = true;
+	}
+	return cachedFunctors;
+}
+
+void ViscBridgeContext::raiseAtNextStep(Scene* scene, const std::string& message)
+{
+	{
+		std::lock_guard<std::mutex> lock(pendingMutex);
+		if (pendingError.empty()) pendingError = message;
+	}
+	// the guard raises it; without one in the scene, one is added (by name: no engine knows another's class)
+	if (hasEngine(scene, "ViscBridgeGuard")) return;
+	vector<shared_ptr<Engine>> next = scene->_nextEngines.empty() ? scene->engines : scene->_nextEngines;
+	next.insert(next.begin(), YADE_PTR_DYN_CAST<Engine>(ClassFactory::instance().createShared("ViscBridgeGuard")));
+	scene->_nextEngines = next;
+}
+
+std::string ViscBridgeContext::takePendingError()
+{
+	std::lock_guard<std::mutex> lock(pendingMutex);
+	std::string                 msg;
+	msg.swap(pendingError);
+	return msg;
+}
+
+void ViscBridgeContext::beginStep(long iter)
+{
+	if (publishedIter == iter) return;
+#ifdef YADE_OPENMP
+	queues.resize(std::max(1, omp_get_max_threads()));
+#else
+	queues.resize(1);
+#endif
+	for (auto& q : queues)
+		q.clear();
+	publishedIter = iter;
+	mergedIter    = -1; // read before the loop of this step: read again
+}
+
+void ViscBridgeContext::publish(const BridgeEvent& event)
+{
+#ifdef YADE_OPENMP
+	queues[omp_get_thread_num()].push_back(event);
+#else
+	queues[0].push_back(event);
+#endif
+}
+
+const std::vector<BridgeEvent>& ViscBridgeContext::events(long iter)
+{
+	if (mergedIter != iter) {
+		merged.clear();
+		if (publishedIter == iter)
+			for (const auto& q : queues)
+				merged.insert(merged.end(), q.begin(), q.end());
+		std::sort(merged.begin(), merged.end());
+		mergedIter = iter;
+	}
+	return merged;
+}
+
+} // namespace yade

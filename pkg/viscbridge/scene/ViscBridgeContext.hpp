@@ -1,0 +1,78 @@
+// ViscBridgeContext: what the ViscBridge functors and engines of one scene share.
+//
+// Engines never include or cast to each other's classes; what one tells another goes through
+// here (docs/architecture.md, "Channels"):
+//   - the scene's ViscBridge functors (the Ip2 and the Law2 of its InteractionLoop), looked up once
+//     per change of the scene;
+//   - errors found where nothing can be thrown (inside InteractionLoop's parallel loop), raised by
+//     ViscBridgeGuard at the start of the next step;
+//   - the work of the conservative bridge forces (capillary, physics.md P21), booked by the law with
+//     or without energy tracking, counted by the guard as energy put in;
+//   - bridge events: the law publishes every formation and rupture of a bridge into per-thread
+//     queues; any engine that runs after InteractionLoop reads the step's events in one order,
+//     sorted by bodies, whatever the number of threads.
+//
+// One context lives in each scene, in Scene::miscParams (created on first use, gone with the
+// scene; nothing of it is saved: a loaded scene starts with an empty one).
+#pragma once
+#include "viscbridge/scene/BridgeEvent.hpp"
+#include "viscbridge/scene/SceneValidation.hpp"
+#include <core/Scene.hpp>
+#include <lib/base/openmp-accu.hpp>
+#include <lib/serialization/Serializable.hpp>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace yade {
+
+class ViscBridgeContext : public Serializable {
+	// events: one queue per thread for the step `publishedIter`, merged once into `merged`
+	std::vector<std::vector<BridgeEvent>> queues;
+	std::vector<BridgeEvent>              merged;
+	long                                  publishedIter = -1, mergedIter = -1;
+	std::string                           pendingError;
+	std::mutex                            pendingMutex;
+	ViscBridgeFunctors                    cachedFunctors;
+	size_t                                functorsSignature = 0;
+	bool                                  functorsKnown     = false;
+
+public:
+	// The scene's context, created in scene->miscParams on first use.  Not thread-safe: called from
+	// engines (serial) or, inside InteractionLoop, once per step under a critical section (see the law).
+	static ViscBridgeContext&        of(Scene* scene);
+	static shared_ptr<ViscBridgeContext> shared(Scene* scene); // the same, held
+
+	// The ViscBridge functors of the scene's InteractionLoop, looked up again when the scene changes.
+	const ViscBridgeFunctors& functors(const Scene* scene);
+
+	// Errors found where nothing can be thrown: the first one is raised by ViscBridgeGuard at the start
+	// of the next step (a guard is added to O.engines for this if there is none).
+	void        raiseAtNextStep(Scene* scene, const std::string& message);
+	std::string takePendingError();
+
+	// Work of the conservative bridge forces (capillary) since the context was created, as booked:
+	// −work, the sign of a dissipation (physics.md P21).
+	OpenMPAccumulator<Real> conservativeWork;
+
+	// Events.  beginStep() must run once per step before the first publish() (the law does it under
+	// its per-step critical section); publish() is then safe from any thread.
+	void beginStep(long iter);
+	void publish(const BridgeEvent& event);
+	// The events of step `iter` (empty if none were published in it), sorted by (id1, id2, kind):
+	// the same list on any number of threads.  For engines that run after InteractionLoop.
+	const std::vector<BridgeEvent>& events(long iter);
+
+	// clang-format off
+	YADE_CLASS_BASE_DOC(ViscBridgeContext, Serializable,
+		"What the ViscBridge functors and engines of one scene share (created by them in "
+		":yref:`O.miscParams<Omega.miscParams>` on first use; nothing of it is saved): the scene's ViscBridge "
+		"functors, errors found inside the interaction loop (raised by :yref:`ViscBridgeGuard` at the next step), the work "
+		"of the capillary forces, and the formation and rupture events of the liquid bridges, published by "
+		":yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous` and read by engines after the interaction loop in an order "
+		"independent of the number of threads (docs/architecture.md).");
+	// clang-format on
+};
+REGISTER_SERIALIZABLE(ViscBridgeContext);
+
+} // namespace yade

@@ -1,0 +1,37 @@
+#include "viscbridge/yade/ViscBridgeState.hpp"
+#include "viscbridge/core/util/Validation.hpp"
+
+namespace yade {
+
+ViscBridgeState::ViscBridgeState(const State& source)
+        : ViscBridgeState()
+{
+	se3            = source.se3; // pos and ori are references into se3
+	vel            = source.vel;
+	mass           = source.mass;
+	angVel         = source.angVel;
+	angMom         = source.angMom;
+	inertia        = source.inertia;
+	refPos         = source.refPos;
+	refOri         = source.refOri;
+	blockedDOFs    = source.blockedDOFs;
+	isDamped       = source.isDamped;
+	densityScaling = source.densityScaling;
+}
+
+ViscBridgeState& ViscBridgeState::of(Body& body)
+{
+	if (auto* s = dynamic_cast<ViscBridgeState*>(body.state.get())) return *s;
+	auto converted = shared_ptr<ViscBridgeState>(new ViscBridgeState(*body.state));
+	body.state     = converted;
+	return *converted;
+}
+
+const ViscBridgeState* ViscBridgeState::peek(const Body& body) { return dynamic_cast<const ViscBridgeState*>(body.state.get()); }
+
+void ViscBridgeState::postLoad(ViscBridgeState&)
+{
+	rollback.check(std::tie(film), [&] { viscbridge::requireNonNegative("ViscBridgeState", "film", film, " [m³]"); });
+}
+
+} // namespace yade
