@@ -1,9 +1,8 @@
-"""viscbridge.scan: the instability criterion, the bisection, case checks, resuming, the yade-batch
-route and the command line (errors, Ctrl-C, failed cases, help)."""
+"""The scan's command line and its runs (``python3 -m viscbridge.scan``, separate processes): errors,
+tables, help, the yade-batch route and its results, a failing case, and Ctrl-C / SIGTERM stopping
+yade-batch with its jobs and resuming."""
 import argparse
-import hashlib
 import json
-import math
 import os
 import pathlib
 import re
@@ -14,132 +13,11 @@ import time
 
 import pytest
 
-import viscbridge.criteria as criteria
 import viscbridge.scan as scan
-from viscbridge.scenes import instability
 
 TINY = dict(n=40, steps=300, tolerance=0.2, seed=2)
 
 
-# --- the criterion -------------------------------------------------------------------------------
-def test_criterion_on_numbers():
-    assert instability(1.0, 2.0) is None                      # dissipated part of what was released
-    assert instability(1.0, 0.5, initial_kinetic=0.6) is None  # initial motion counts
-    assert 'exceeds' in instability(2.1, 2.0)
-    assert 'non-finite' in instability(float('nan'), 1.0)
-    assert 'non-finite' in instability(1.0, float('inf'))
-
-
-@pytest.fixture(scope='module')
-def bed_dir(tmp_path_factory):
-    return str(tmp_path_factory.mktemp('beds'))
-
-
-def test_criterion_classifies_known_runs(bed_dir):
-    """Wetted bed: stable at half the time stepper's step, unstable at 3× the pair limit 2 t_v."""
-    case = scan.normalize_case(dict(TINY, viscosity=10.0))
-    trial = scan._Trial(case, scan.dry_bed(case, bed_dir))
-    dt_stepper = trial.stepper_dt()['dt_stepper']
-    assert trial.unstable_at(0.5 * dt_stepper) is None
-    t_v = 4.0 / 9.0 * 2500 * 0.5e-3 * (1e-3 * 0.25e-3) / 10.0
-    why = trial.unstable_at(3 * 2 * t_v)
-    assert why and ('exceeds' in why or 'non-finite' in why)
-
-
-# --- bisection -----------------------------------------------------------------------------------
-@pytest.mark.parametrize('guess', [(1.0, 2.0), (5.0, 9.0), (0.01, 0.02), (30.0, 300.0)])
-def test_bisection_brackets_a_planted_threshold(guess):
-    threshold = 3.7
-    lo, hi, trials = scan.bisect_threshold(lambda x: x >= threshold, *guess, tolerance=0.01)
-    assert lo < threshold <= hi and hi / lo <= 1.01
-    assert all((x >= threshold) == u for x, u in trials)
-    assert len(trials) < 40
-
-
-def test_bisection_rejects_bad_input():
-    with pytest.raises(ValueError, match='lo'):
-        scan.bisect_threshold(lambda x: True, 2.0, 1.0)
-    with pytest.raises(ValueError, match='tolerance'):
-        scan.bisect_threshold(lambda x: True, 1.0, 2.0, tolerance=0)
-
-
-def test_cases_and_keys():
-    cases = scan.one_at_a_time(dict(viscosity=1.0), viscosity=[1.0, 10.0], sMinRel=[1e-2])
-    assert [c['viscosity'] for c in cases] == [1.0, 10.0, 1.0] and cases[2]['sMinRel'] == 1e-2
-    assert len({scan.case_key(c) for c in cases}) == 3
-    assert scan.case_key(dict(viscosity=1.0)) == scan.case_key(dict(viscosity=1.0, n=300))  # defaults
-    assert len(scan.grid(viscosity=[1, 2], sMinRel=[1e-3, 1e-2])) == 4
-    with pytest.raises(ValueError, match='viscosty'):
-        scan.normalize_case(dict(viscosty=1.0))
-    with pytest.raises(ValueError, match='viscosty'):
-        scan.one_at_a_time({}, viscosty=[])
-
-
-def test_numbers_take_the_type_of_their_default_so_equal_cases_run_once():
-    c = scan.normalize_case(dict(n=20.0, seed=3.0, viscosity=1, young=10**7))
-    assert (type(c['n']), type(c['seed']), type(c['viscosity']), type(c['young'])) == (int, int, float, float)
-    numpy = pytest.importorskip('numpy')
-    c = scan.normalize_case(dict(n=numpy.int64(20), viscosity=numpy.float32(2)))
-    assert (type(c['n']), type(c['viscosity'])) == (int, float) and scan.case_key(c) == scan.case_key(dict(n=20, viscosity=2))
-    assert scan.case_key(dict(viscosity=1)) == scan.case_key(dict(viscosity=1.0))
-    assert len(scan.one_at_a_time({}, viscosity=[1, 1.0, 2, 2])) == 2  # the base has viscosity 1.0
-    assert len(scan.grid(viscosity=[1, 1.0], n=[20, 20.0])) == 1
-    assert len(scan.unique_cases([dict(n=20), dict(n=20.0), dict(n=21)])) == 2
-    # a scan written before keeps its keys, so that it resumes (fields added since, like the capillary
-    # ones, are left out of the key at their defaults): the defaults' key of docs/data's scans
-    assert scan.case_key({}) == '9e1baa0e9261c915'
-    assert scan.case_key(dict(capillaryModel='willett', surfaceTension=0.05)) != scan.case_key({})
-
-
-@pytest.mark.parametrize('field, value', [
-    ('n', 0), ('n', 2.5), ('n', True), ('n', '20'), ('seed', 1.5), ('steps', 0), ('radius', 0.0), ('radius', float('nan')),
-    ('sizeRatio', 6.0), ('density', -1.0), ('young', float('inf')), ('poisson', 0.5), ('friction', -0.1),
-    ('viscosity', -1.0), ('viscosity', '1'), ('sMinRel', 0.0), ('sMinRel', 1.5), ('bridgeVolumeRel', 0.0),
-    ('contactAngle', 2.0), ('en', 0.0), ('en', 1.5), ('perturbation', -0.01), ('tolerance', 0.0),
-    ('normalModel', 'foo'), ('tangentialModel', 'foo'), ('tangentialModel', 1), ('integration', 'semi')])
-def test_values_out_of_range_are_rejected_naming_the_field(field, value):
-    with pytest.raises(ValueError, match=r'scan case: %s=.* is out of range; allowed: ' % field):
-        scan.normalize_case({field: value})
-
-
-def test_allowed_values_are_those_of_the_ip2():
-    """Model names come from viscbridge.criteria (as ModelNames.hpp); the liquid ranges agree with
-    what the C++ functor accepts, probed at and around their ends."""
-    import yade.wrapper as yw
-    assert scan.CASE_FIELDS['normalModel'].allowed is criteria.NORMAL_MODELS
-    assert scan.CASE_FIELDS['tangentialModel'].allowed is criteria.TANGENTIAL_MODELS
-    assert scan.CASE_FIELDS['integration'].allowed is criteria.INTEGRATIONS
-    assert set(scan.CASE_FIELDS) == set(scan.CASE_DEFAULTS)
-
-    def ip2_accepts(**kw):
-        try:
-            yw.Ip2_FrictMat_FrictMat_ViscBridgePhys(**kw)
-            return True
-        except ValueError:
-            return False
-    for field in ('normalModel', 'tangentialModel'):
-        for name in scan.CASE_FIELDS[field].allowed + ('foo',):
-            assert ip2_accepts(**{field: name}) == (name in scan.CASE_FIELDS[field].allowed)
-    for field in ('viscosity', 'sMinRel', 'bridgeVolumeRel', 'contactAngle', 'en'):
-        for v in (-1.0, 0.0, 1e-9, 0.5, 1.0, 1.5, math.pi / 2, math.pi / 2 + 1e-9, 2.0):
-            assert ip2_accepts(**{field: v}) == (v in scan.CASE_FIELDS[field].allowed), (field, v)
-
-
-def test_case_failures_are_read_from_the_case_logs(tmp_path):
-    a, b, c = [scan.normalize_case(dict(viscosity=v)) for v in (1.0, 2.0, 3.0)]
-    key = scan.case_key
-    (tmp_path / ('case-%s.log' % key(a))).write_text('Running script\nTraceback (most recent call last):\n'
-                                                    '  File "x.py", line 1\nValueError: planted\nYade: bye\n')
-    (tmp_path / ('case-%s.log' % key(c))).write_text('Running script\nSegmentation fault\n')
-    failed = {key(case): error for case, error in scan._failures([a, b, c], {key(c)}, {key(c)}, str(tmp_path))}
-    assert failed[key(a)] == 'ValueError: planted'                        # no result line
-    assert failed[key(b)].startswith('not started')                      # no result, no log
-    assert failed[key(c)] == 'wrote its result, then failed: Segmentation fault'  # reported FAILED
-    message = str(scan.CasesFailed([(a, failed[key(a)]), (b, failed[key(b)])], str(tmp_path)))
-    assert message.startswith('2 case(s) failed') and key(a) in message and 'viscosity=2.0' in message
-
-
-# --- the command line ----------------------------------------------------------------------------
 def scan_cli(*args):
     """`python3 -m viscbridge.scan ARGS` in plain Python (no YADE): (exit status, stdout, stderr)."""
     p = subprocess.run([sys.executable, '-m', 'viscbridge.scan', *args], capture_output=True, text=True, timeout=300)
@@ -198,15 +76,6 @@ def test_help_lists_every_field_with_default_and_unit_and_every_option():
         assert all(a.help for a in sub._actions), name
 
 
-def test_keyboard_interrupt_is_one_line(tmp_path, monkeypatch, capsys):
-    def interrupted(scan_dir):
-        raise KeyboardInterrupt
-    monkeypatch.setattr(scan, 'collect', interrupted)
-    assert scan.main(['collect', str(tmp_path)]) == 130
-    assert capsys.readouterr().err == 'scan: interrupted\n'
-
-
-# --- parallel runs through yade-batch, results, resuming -----------------------------------------
 def scan_cases():
     return scan.one_at_a_time(dict(TINY, viscosity=10.0), viscosity=[30.0, 100.0])
 

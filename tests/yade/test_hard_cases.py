@@ -12,6 +12,8 @@ import viscbridge
 import viscbridge.scan as scan
 import viscbridge.scenes as scenes
 
+pytestmark = pytest.mark.slow  # the hard-case matrix: a settled bed per case
+
 N = 150
 
 

@@ -1,9 +1,11 @@
-"""viscbridge.scenes: the settling scene, periodic or walled, its runs and its output."""
+"""viscbridge.scenes: the settling scene, periodic or walled, its runs and its output, and the names
+and logging hook it keeps since it became a package (scenes saved during a run call the hook)."""
 import csv
 import math
 
 import pytest
 from yade import O, plot
+import yade.wrapper as yw
 
 import viscbridge.scenes as scenes
 from wetpairs import R
@@ -68,3 +70,29 @@ def test_periodic_settling_runs_explicitly_too():
     s = scenes.settling(n=40, periodic=True, viscosity=1.0, seed=2)
     assert s.run(duration=0.002) is None
     assert all(math.isfinite(c) for b in O.bodies for c in b.state.pos)
+
+
+# --- the module's names, kept through the split into scenes/ ----------------------------------------
+NAMES_BEFORE = {  # their own definitions before viscbridge.scenes became a package
+    'viscbridge.scenes': 'Settling _ACTIVE _LOG_COMMAND _check_settling_args _checks _floor_of_spheres _log '
+                         'bridge_parameters capillary_input criteria engines instability log_limits plot_history '
+                         'settling write_history_csv',
+    'viscbridge.engine_list': '_checks _detection_range bridge_parameters criteria engines ip2_defaults',
+}
+
+
+@pytest.mark.parametrize('module', sorted(NAMES_BEFORE))
+def test_every_name_of_the_module_is_still_there(module):
+    import importlib
+    m = importlib.import_module(module)
+    assert [n for n in NAMES_BEFORE[module].split() if not hasattr(m, n)] == []
+
+
+def test_the_logging_command_of_saved_scenes_still_runs():
+    """Settling.run logs through a PyRunner with this command, which a scene saved during a run
+    holds: it must keep running (and do nothing without an active run)."""
+    assert scenes._LOG_COMMAND == 'import viscbridge.scenes; viscbridge.scenes._log()'
+    scenes.settling(n=10, viscosity=0.1)
+    O.engines = O.engines + [yw.PyRunner(iterPeriod=1, command=scenes._LOG_COMMAND)]
+    O.run(3, True)
+    assert O.iter == 3

@@ -9,8 +9,6 @@ from yade.wrapper import (FrictMat, ForceResetter, InsertionSortCollider, Bo1_Sp
                           Law2_ScGeom_FrictPhys_CundallStrack, NewtonIntegrator,
                           ViscBridgeHeaderProbe)
 
-from yadeproc import run_yade
-
 
 def build_scene():
     m1 = O.materials.append(FrictMat(young=3.1e7, poisson=0.27, density=2345., frictionAngle=0.41))
@@ -74,20 +72,3 @@ def test_probe_matches_python_view():
         assert (p['young'], p['poisson'], p['density'], p['frictionAngle']) == \
                (m.young, m.poisson, m.density, m.frictionAngle)
     assert mats[1]['young'] == 4.7e8
-
-
-def test_plugin_loads_in_a_separate_yade_process():
-    """The same plugin loads in a real `yade -n -x` process (the route ./yadew run takes)."""
-    proc, data = run_yade("""
-import json, os
-import yade
-import viscbridge
-json.dump({'version': yade.config.version,
-           'probe': 'ViscBridgeHeaderProbe' in dir(yade.wrapper),
-           'builtAgainst': yade.wrapper.ViscBridgeHeaderProbe().yadeVersion,
-           'plugin': viscbridge.plugin_path()}, open(os.environ['VISCBRIDGE_RESULT'], 'w'))
-""")
-    assert data['version'] == '2025.2.0'
-    assert data['probe'] is True
-    assert data['builtAgainst'] == '2025.2.0'
-    assert data['plugin'].endswith('libpkg_viscbridge.so')

@@ -1,4 +1,4 @@
-"""The settling scene of tests/py/test_mpi.py, run serially (`yade -n -x mpi_case.py OUT ...`) or
+"""The settling scene of tests/system/test_mpi.py, run serially (`yade -n -x mpi_case.py OUT ...`) or
 split by yade.mpy (`mpiexec -n N yade -n -x mpi_case.py OUT ...`).
 
 Every rank writes OUT.rank<k>.json: its own dt at every step, the error that stopped it (if any)

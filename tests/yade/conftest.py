@@ -1,10 +1,19 @@
-"""pytest set-up shared by every YADE test: YADE runs in-process, one fresh scene per test."""
+"""pytest set-up of the in-process YADE tier (tests/yade): YADE runs in this process (the plugin
+overlay on YADE_PREFIX, as ctest sets it), one fresh scene per test.
+
+A file whose tests need long YADE runs marks itself ``pytestmark = pytest.mark.slow``: ctest then
+leaves it out of the fast tier (``./yadew test --fast``; tests/CMakeLists.txt reads that line).
+Small scenes for the physics tests: wetpairs.py."""
 import re
 
 import pytest
 
 import yade  # noqa: F401  (boots YADE with the plugin overlay on YADE_PREFIX)
 from yade import O
+
+
+def pytest_configure(config):
+    config.addinivalue_line('markers', 'slow: a long YADE run; the file is not in the fast tier (./yadew test --fast)')
 
 
 @pytest.fixture(autouse=True)

@@ -13,6 +13,8 @@ import viscbridge.scenes as scenes
 from viscbridge import criteria
 from wetpairs import R, RHO, material, sphere_mass
 
+pytestmark = pytest.mark.slow  # settling runs and a scan trial
+
 GAMMA = 0.072  # N/m, water
 
 

@@ -13,6 +13,8 @@ import viscbridge.scenes as scenes
 from viscbridge import criteria
 from wetpairs import R, RHO, material
 
+pytestmark = pytest.mark.slow  # bisections on wetted random beds
+
 
 def stepper():
     return next(e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper))

@@ -6,6 +6,8 @@ from yade import O
 
 from wetpairs import R, Recorder, gap_and_approach, head_on_pair
 
+pytestmark = pytest.mark.slow  # long pair runs
+
 
 def real():
     return O.interactions.has(0, 1) and O.interactions[0, 1].isReal

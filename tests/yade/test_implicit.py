@@ -1,6 +1,6 @@
 """The implicit viscous scheme (physics.md §4, P15): backward Euler over the contact network by
 ViscBridgeImplicitSolver.  The closed forms R1–R3 at Δt ≤ 0.01 t_v run for both schemes in
-test_closed_forms.py; here: what the explicit scheme cannot do."""
+test_pair_trajectories.py; here: what the explicit scheme cannot do."""
 import math
 import random
 import re

@@ -1,16 +1,20 @@
-"""Every user-settable parameter of every ViscBridge class and function: bad input is a Python
-exception naming the parameter, its value and the allowed range — on assignment, or at the latest
-at the first step.  (Ip2_FrictMat_FrictMat_ViscBridgePhys: test_attribute_validation.py.)"""
+"""Every user-settable parameter of every ViscBridge class and function inside YADE: bad input is a
+Python exception naming the parameter, its value and the allowed range — on assignment (the previous
+valid value stays in place), or at the latest at the first step — and the Ip2 accepts exactly the
+models and ranges the registry (_registry.py) lists.  (The plain-Python functions' checks:
+tests/unit/test_criteria.py, tests/unit/test_scan.py.)"""
 import math
 import re
 
 import pytest
 from yade import O, utils
 import yade.wrapper as yw
+from yade.wrapper import Ip2_FrictMat_FrictMat_ViscBridgePhys, Law2_ScGeom_ViscBridgePhys_HertzViscous
 
 import viscbridge
-import viscbridge.scan as scan
 import viscbridge.scenes as scenes
+from viscbridge import _registry
+from viscbridge.engine_list import ip2_defaults
 from wetpairs import R, material
 
 ATTRIBUTES = [
@@ -142,21 +146,6 @@ def test_settling_run_arguments(kw, name):
         s.run(**kw)
 
 
-@pytest.mark.parametrize('kw,name', [
-    (dict(n=0), 'n'), (dict(n=2.5), 'n'), (dict(steps=0), 'steps'), (dict(tolerance=0), 'tolerance'),
-    (dict(perturbation=-1), 'perturbation'), (dict(viscosity=-1), 'viscosity'), (dict(radius=0), 'radius'),
-    (dict(sizeRatio=0.5), 'sizeRatio'), (dict(integration='rk4'), 'integration'), (dict(colour=1), 'colour'),
-])
-def test_scan_case_fields(kw, name):
-    with pytest.raises(ValueError, match=name):
-        scan.normalize_case(kw)
-
-
-def test_scan_jobs(tmp_path):
-    with pytest.raises(ValueError, match='jobs'):
-        scan.run_cases([], str(tmp_path), jobs=0)
-
-
 # --- bodies the law cannot handle: refused before they can give dt = 0, NaN or time running back ---
 @pytest.mark.parametrize('radius', [0.0, -R, float('nan')])
 @pytest.mark.parametrize('with_guard', [True, False])
@@ -230,38 +219,86 @@ def test_settling_wrong_values_name_the_parameter(kw, name):
         scenes.settling(**dict(dict(n=20), **kw))
 
 
-@pytest.mark.parametrize('args,kw,name', [
-    ((0.5e-3, 2500, 1e7, 0.3, '1'), {}, 'viscosity'), ((0.5e-3, 2500, 1e7, 0.3, True), {}, 'viscosity'),
-    (('0.5e-3', 2500, 1e7, 0.3, 1.0), {}, 'radius'), ((0.5e-3, 2500, 1e7, 0.3, 1.0), dict(coordination='6'), 'coordination'),
-])
-def test_criteria_wrong_types_name_the_parameter(args, kw, name):
-    from viscbridge import criteria
-    with pytest.raises(ValueError, match=name):
-        criteria.critical_dt(*args, **kw)
-
-
 def test_a_scalar_gravity_is_reported_with_the_value_given():
     with pytest.raises(ValueError, match=r"engines: gravity=9\.81 is out of range; allowed: three finite numbers"):
         viscbridge.engines(gravity=9.81)
 
 
-@pytest.mark.parametrize('kw,message', [
-    (dict(s_min_rel=-1), 's_min_rel=-1 is out of range'), (dict(s_min_rel=5), 's_min_rel=5 is out of range'),
-    (dict(spring=-5), 'spring=-5 is out of range'), (dict(spring='a'), "spring='a' is out of range"),
-    (dict(q_points=0), 'q_points=0 is out of range'), (dict(q_points=2.5), 'q_points=2.5 is out of range'),
-    (dict(normal_model='pitois', bridge_volume=-1), 'bridge_volume=-1 is out of range'),
-])
-def test_lattice_limit_wrong_values_name_the_parameter(kw, message):
-    from viscbridge import criteria
-    with pytest.raises(ValueError, match=re.escape('lattice_limit: ' + message)):
-        criteria.lattice_limit(0.5e-3, 2500, 1.0, 6, **kw)
+# --- Ip2_FrictMat_FrictMat_ViscBridgePhys ------------------------------------------------------------
+IP2_BAD = [
+    ('viscosity', -1.0, '>= 0'),
+    ('viscosity', float('nan'), '>= 0'),
+    ('bridgeVolume', -1e-12, '>= 0'),
+    ('bridgeVolumeRel', 0.0, '(0, 1]'),
+    ('contactAngle', 2.0, '[0, 1.570796327]'),
+    ('contactAngle', -0.1, '[0, 1.570796327]'),
+    ('sMin', -1e-9, '>= 0'),
+    ('sMinRel', 0.0, '(0, 1]'),
+    ('sMinRel', 2.0, '(0, 1]'),
+    ('formationDistance', -1e-6, '>= 0'),
+    ('en', 0.0, '(0, 1]'),
+    ('en', 1.5, '(0, 1]'),
+    ('normalModel', 'stokes', "'none', 'adamsPerchard', 'pitois'"),
+    ('tangentialModel', 'Goldman', "'none', 'washino', 'slip', 'goldman'"),
+]
 
 
-@pytest.mark.parametrize('args,message', [
-    ((2.5e-4, 1.0, 1e-7, 'x'), "normal_model='x' is not a known name"), ((2.5e-4, 1.0, 0.0), 'gap=0.0 is out of range'),
-])
-def test_normal_coefficient_refuses_an_unknown_model_and_a_zero_gap(args, message):
-    """It returned the Adams–Perchard value for any unknown name, and divided by zero at S = 0."""
-    from viscbridge import criteria
-    with pytest.raises(ValueError, match=re.escape('normal_coefficient: ' + message)):
-        criteria.normal_coefficient(*args)
+@pytest.mark.parametrize('name,value,allowed', IP2_BAD)
+def test_ip2_rejects_on_assignment_and_keeps_previous_value(name, value, allowed):
+    ip2 = Ip2_FrictMat_FrictMat_ViscBridgePhys()
+    before = getattr(ip2, name)
+    with pytest.raises(ValueError) as err:
+        setattr(ip2, name, value)
+    msg = str(err.value)
+    shown = ('%g' % value) if isinstance(value, float) else "'%s'" % value
+    assert name in msg and allowed in msg and shown in msg, msg
+    assert getattr(ip2, name) == before or (isinstance(before, float) and math.isnan(before))
+
+
+@pytest.mark.parametrize('name,value,allowed', IP2_BAD)
+def test_ip2_constructor_rejects(name, value, allowed):
+    with pytest.raises(ValueError, match=name):
+        Ip2_FrictMat_FrictMat_ViscBridgePhys(**{name: value})
+
+
+def test_ip2_accepts_valid_values():
+    ip2 = Ip2_FrictMat_FrictMat_ViscBridgePhys(viscosity=100.0, bridgeVolume=1e-12, contactAngle=math.pi / 2,
+                                               sMin=1e-8, normalModel='pitois', tangentialModel='goldman', en=0.5)
+    assert (ip2.viscosity, ip2.normalModel, ip2.tangentialModel, ip2.en) == (100.0, 'pitois', 'goldman', 0.5)
+
+
+def test_law_integration_names():
+    law = Law2_ScGeom_ViscBridgePhys_HertzViscous()
+    assert law.integration == 'explicit'
+    with pytest.raises(ValueError, match="integration='semi'.*'explicit'"):
+        law.integration = 'semi'
+    assert law.integration == 'explicit'
+
+
+def test_engines_rejects_unknown_effects():
+    with pytest.raises(ValueError, match='viscosityy'):
+        viscbridge.engines(viscosityy=1.0)
+    with pytest.raises(ValueError, match='tangentialModel'):
+        viscbridge.engines(viscosity=1.0, tangentialModel='sticky')
+
+
+# --- what the registry lists is what the Ip2 accepts -----------------------------------------------
+@pytest.mark.parametrize('slot', ['normalModel', 'tangentialModel', 'capillaryModel'])
+def test_every_listed_model_is_accepted_and_nothing_else(slot):
+    ip2 = yw.Ip2_FrictMat_FrictMat_ViscBridgePhys()
+    assert getattr(ip2, slot) == _registry.SLOTS[slot]['default']
+    for name in _registry.SLOTS[slot]['models']:
+        setattr(ip2, slot, name)
+        assert getattr(ip2, slot) == name
+    with pytest.raises(ValueError, match=slot):
+        setattr(ip2, slot, 'notAModel')
+
+
+def test_parameter_defaults_and_ranges_are_the_ip2s():
+    ip2 = yw.Ip2_FrictMat_FrictMat_ViscBridgePhys()
+    assert set(_registry.PARAMETERS) <= set(ip2_defaults())
+    for name, spec in _registry.PARAMETERS.items():
+        assert getattr(ip2, name) == spec['default'], name
+        below = spec['lo'] - 1.0 if not spec['lo_open'] else spec['lo']
+        with pytest.raises(ValueError, match=name):
+            setattr(ip2, name, below)

@@ -12,6 +12,8 @@ import viscbridge
 from wetpairs import (R, RHO, Recorder, crossing, decay_time_pair, decay_time_wall, gap_and_approach,
                       head_on_pair, material, sphere_mass)
 
+pytestmark = pytest.mark.slow  # closed forms at dt <= 0.01 t_v: long runs
+
 RBAR = R / 2  # equal spheres
 
 

@@ -9,6 +9,8 @@ from yade.wrapper import (ForceResetter, InsertionSortCollider, Bo1_Sphere_Aabb,
 
 from wetpairs import R, Recorder, material
 
+pytestmark = pytest.mark.slow  # long pair runs, step by step against YADE
+
 LAWS = {
     'yade': lambda: ([Ip2_FrictMat_FrictMat_MindlinPhys()], [Law2_ScGeom_MindlinPhys_Mindlin()]),
     'viscbridge, dry': lambda: ([Ip2_FrictMat_FrictMat_ViscBridgePhys(viscosity=0)], [Law2_ScGeom_ViscBridgePhys_HertzViscous()]),

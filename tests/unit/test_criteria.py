@@ -1,8 +1,9 @@
-"""viscbridge.criteria: the time-step bounds of physics.md §3–§4 (P12–P15), checked number by number.
-
-The module is pure Python; conftest.py boots YADE for the whole directory, which only matters for
-the one cross-check against YADE's own RayleighWaveTimeStep."""
+"""viscbridge.criteria (viscbridge.planning): the time-step bounds of physics.md §3–§4 (P12–P15),
+checked number by number, its argument checks, and its formulas against the C++ kernels' golden
+numbers.  Plain Python; the cross-check against YADE's own RayleighWaveTimeStep is in
+tests/yade/test_criteria_yade.py."""
 import math
+import re
 import subprocess
 import sys
 
@@ -27,14 +28,6 @@ def test_rayleigh_physics_md_numbers():
     assert dt7 / dt9 == pytest.approx(math.sqrt(100), rel=1e-12)   # Δt ∝ E^(−1/2)
     assert C.rayleigh_time(R, RHO, 1e7, NU) == pytest.approx(dt7 / 0.2, rel=1e-15)
     assert C.rayleigh_dt(R, RHO, 1e7, NU, fraction=0.5) == pytest.approx(2.5 * dt7, rel=1e-15)
-
-
-def test_rayleigh_equals_yade():
-    from yade import O, utils
-    from yade.wrapper import FrictMat
-    mat = O.materials.append(FrictMat(young=E, poisson=NU, density=RHO))
-    O.bodies.append(utils.sphere((0, 0, 0), R, material=mat))
-    assert C.rayleigh_time(R, RHO, E, NU) == pytest.approx(utils.RayleighWaveTimeStep(), rel=1e-12)
 
 
 def test_hertz_collision_time_against_integration():
@@ -215,7 +208,6 @@ def test_p14_coordination_scaling():
     w = C.critical_dt(R, RHO, E, NU, 1.0, wall=True, tangential_model='none')
     tv = C.viscous_decay_time(R, RHO, 1.0, 1e-3 * R, wall=True)
     assert w.bound('network_dashpot').value == pytest.approx(2 * tv, rel=1e-14)
-
 
 
 def test_planning_stays_with_p14_because_a_random_bed_is_below_the_lattice_limit():
@@ -509,6 +501,35 @@ def test_other_functions_reject():
         C.tangential_coefficients(R, -2, 1e-7)
     with pytest.raises(ValueError, match='s=0'):
         C.tangential_coefficients(R, 1.0, 0)
+
+
+@pytest.mark.parametrize('args,kw,name', [
+    ((0.5e-3, 2500, 1e7, 0.3, '1'), {}, 'viscosity'), ((0.5e-3, 2500, 1e7, 0.3, True), {}, 'viscosity'),
+    (('0.5e-3', 2500, 1e7, 0.3, 1.0), {}, 'radius'), ((0.5e-3, 2500, 1e7, 0.3, 1.0), dict(coordination='6'), 'coordination'),
+])
+def test_criteria_wrong_types_name_the_parameter(args, kw, name):
+    with pytest.raises(ValueError, match=name):
+        C.critical_dt(*args, **kw)
+
+
+@pytest.mark.parametrize('kw,message', [
+    (dict(s_min_rel=-1), 's_min_rel=-1 is out of range'), (dict(s_min_rel=5), 's_min_rel=5 is out of range'),
+    (dict(spring=-5), 'spring=-5 is out of range'), (dict(spring='a'), "spring='a' is out of range"),
+    (dict(q_points=0), 'q_points=0 is out of range'), (dict(q_points=2.5), 'q_points=2.5 is out of range'),
+    (dict(normal_model='pitois', bridge_volume=-1), 'bridge_volume=-1 is out of range'),
+])
+def test_lattice_limit_wrong_values_name_the_parameter(kw, message):
+    with pytest.raises(ValueError, match=re.escape('lattice_limit: ' + message)):
+        C.lattice_limit(0.5e-3, 2500, 1.0, 6, **kw)
+
+
+@pytest.mark.parametrize('args,message', [
+    ((2.5e-4, 1.0, 1e-7, 'x'), "normal_model='x' is not a known name"), ((2.5e-4, 1.0, 0.0), 'gap=0.0 is out of range'),
+])
+def test_normal_coefficient_refuses_an_unknown_model_and_a_zero_gap(args, message):
+    """It returned the Adams–Perchard value for any unknown name, and divided by zero at S = 0."""
+    with pytest.raises(ValueError, match=re.escape('normal_coefficient: ' + message)):
+        C.normal_coefficient(*args)
 
 
 # --- one formula source: the C++ kernels' numbers on a grid, against viscbridge.criteria ---------

@@ -1,6 +1,6 @@
 """Every ViscBridge engine under YADE's MPI module yade.mpy, against the serial run.
 
-tests/py/mpi_case.py (the settling scene with the time stepper and the guard) runs serially and on
+tests/system/mpi_case.py (the settling scene with the time stepper and the guard) runs serially and on
 2 and 3 ranks (mpiexec, oversubscribed on this 2-core machine); 3 ranks are the master and two
 workers, with bridges across the subdomain boundary.  The distributed runs must give the serial
 positions to 1e-9 (relative), the serial dt at every step on every rank, an energy balance summed
@@ -16,10 +16,7 @@ import tempfile
 import time
 
 import pytest
-from yade import O
 import yade.wrapper as yw
-
-import viscbridge.mpi
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CASE = os.path.join(HERE, 'mpi_case.py')
@@ -27,6 +24,7 @@ TIMEOUT = 400  # s; a hang is a failure, not a stuck test run
 MPIEXEC = ['mpiexec', '--allow-run-as-root', '--oversubscribe']
 
 pytestmark = pytest.mark.skipif(shutil.which('mpiexec') is None, reason='mpiexec is not installed')
+# (in one process, without mpy: tests/yade/test_mpi_serial.py)
 
 _cache = {}
 
@@ -221,35 +219,6 @@ def test_merged_scene_saved_and_run_on_serially(tmp_path):
     assert max(abs(a - b) / a for a, b in zip(serial['dts'][150:170], resumed['dts'])) <= 0.01
     assert max_relative_position_difference(serial['positions'], resumed['positions']) <= 1e-3
     assert energy_imbalance(resumed) <= 0.01
-
-
-def test_decompose_makes_equal_slabs_and_leaves_walls_to_the_master():
-    import viscbridge.scenes as scenes
-    scenes.settling(n=30, viscosity=0.1, seed=2)
-    counts = viscbridge.mpi.decompose(axis=0, workers=3)
-    assert counts == [10, 10, 10]
-    spheres = sorted((b for b in O.bodies if isinstance(b.shape, yw.Sphere)), key=lambda b: b.state.pos[0])
-    assert [b.subdomain for b in spheres] == sorted(b.subdomain for b in spheres)  # slabs along x
-    assert all(b.subdomain == 0 for b in O.bodies if isinstance(b.shape, yw.Wall))
-
-
-@pytest.mark.parametrize('kw', [dict(axis=3), dict(workers=-1), dict(workers=1.5)])
-def test_decompose_rejects_bad_arguments(kw):
-    import viscbridge.scenes as scenes
-    scenes.settling(n=10, viscosity=0.1)
-    with pytest.raises(ValueError, match=list(kw)[0]):
-        viscbridge.mpi.decompose(**kw)
-
-
-def test_serial_helpers_are_plain():
-    """Without mpy (one process) rank/ranks/decompose/energy are the serial values."""
-    import viscbridge.scenes as scenes
-    scenes.settling(n=10, viscosity=0.1)
-    O.run(20, True)
-    assert viscbridge.mpi.ranks() == 1 and viscbridge.mpi.rank() == 0
-    assert viscbridge.mpi.decompose() == []
-    assert viscbridge.mpi.energy() == dict(O.energy.items())
-    assert viscbridge.mpi.energy_total() == pytest.approx(O.energy.total(), rel=1e-15)
 
 
 LONG_MPI_RUN = '''
