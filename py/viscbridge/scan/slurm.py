@@ -3,6 +3,7 @@ run by the same job script as yade-batch uses.  Plain Python.
 """
 import os
 
+from .errors import ScanError
 from .results import _scan_dir
 from .table import JOB_SCRIPT
 
