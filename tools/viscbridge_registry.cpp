@@ -3,7 +3,7 @@
 //   viscbridge_registry --python   the module py/viscbridge/_registry.py: slots, model names,
 //                                  capabilities, energy keys, the Ip2's numeric parameters
 //   viscbridge_registry --golden   JSON lines of coefficients and bounds of the C++ kernels on a grid
-//                                  of inputs, which tests/py/test_criteria.py compares with
+//                                  of inputs, which tests/unit/test_criteria.py compares with
 //                                  viscbridge.criteria (one formula source: the kernels)
 #include "viscbridge/physics/BridgeParameters.hpp"
 #include "viscbridge/physics/HertzMindlin.hpp"
