@@ -3,7 +3,7 @@
 //   viscbridge_registry --python   the module py/viscbridge/_registry.py: slots, model names,
 //                                  capabilities, energy keys, the Ip2's numeric parameters
 //   viscbridge_registry --golden   JSON lines of coefficients and bounds of the C++ kernels on a grid
-//                                  of inputs, which tests/py/test_criteria.py compares with
+//                                  of inputs, which tests/unit/test_criteria.py compares with
 //                                  viscbridge.criteria (one formula source: the kernels)
 #include "viscbridge/core/models/Parameters.hpp"
 #include "viscbridge/core/models/contact/HertzMindlin.hpp"
@@ -88,7 +88,7 @@ void printPython()
 {
 	std::printf("\"\"\"What the C++ side of ViscBridge registers, for the Python tools (generated: do not edit).\n\n"
 	            "Made by `viscbridge_registry --python` from pkg/viscbridge/core/models/Registry.hpp,\n"
-	            "Parameters.hpp and core/pair/PairRecord.hpp; tests/py/test_registry.py fails when it is out of date.\n\"\"\"\n");
+	            "Parameters.hpp and core/pair/PairRecord.hpp; tests/unit/test_registry.py fails when it is out of date.\n\"\"\"\n");
 	std::printf("import math\n\n");
 	std::printf("#: The slots of a wet contact: the Ip2 attribute that selects the model, its models in order\n");
 	std::printf("#: (the first is 'none'), their capabilities and the O.energy keys each books.\n");

@@ -1,7 +1,7 @@
 """What the C++ side of ViscBridge registers, for the Python tools (generated: do not edit).
 
 Made by `viscbridge_registry --python` from pkg/viscbridge/core/models/Registry.hpp,
-Parameters.hpp and core/pair/PairRecord.hpp; tests/py/test_registry.py fails when it is out of date.
+Parameters.hpp and core/pair/PairRecord.hpp; tests/unit/test_registry.py fails when it is out of date.
 """
 import math
 

@@ -8,13 +8,13 @@ Spheres, walls, facets and boxes all get a bounding-volume functor, a geometry f
 Ip2/Law2, NewtonIntegrator with gravity and *no* numerical damping (the liquid is the damping), and
 — when the plugin provides them — ViscBridge's time stepper, implicit solver and guard.
 """
-import math
-
 import yade.wrapper as yw
 
-from . import _checks, criteria
+from . import _checks, criteria  # noqa: F401  (criteria: a name of this module before)
+from .planning.inputs import INTEGRATIONS
 
 __all__ = ['engines', 'bridge_parameters', 'ip2_defaults']
+
 
 def ip2_defaults():
     """The attributes of :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys` a scene sets (its own, not those
@@ -82,6 +82,27 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
     label_prefix: prefix of the engines' labels ('collider', 'viscBridgeIp2', 'viscBridgeLaw',
         'newton', 'timeStepper', 'implicitSolver', 'guard').
     """
+    gravity, ip2_args = _checked_engine_args(gravity, integration, timeStepper, safety, guard, label_prefix, effects)
+    ip2 = yw.Ip2_FrictMat_FrictMat_ViscBridgePhys(label=label_prefix + 'viscBridgeIp2', **ip2_args)
+    law = yw.Law2_ScGeom_ViscBridgePhys_HertzViscous(label=label_prefix + 'viscBridgeLaw', integration=integration)
+    out = []
+    if guard and hasattr(yw, 'ViscBridgeGuard'):
+        # first: it checks the scene before the interaction loop could crash on it, and sees the
+        # last step's forces (before ForceResetter) to account for the work of moving walls
+        out.append(yw.ViscBridgeGuard(label=label_prefix + 'guard'))
+    out += [yw.ForceResetter()] + _contact_engines(ip2, law, minRadius, label_prefix)
+    if timeStepper and hasattr(yw, 'ViscBridgeTimeStepper'):
+        kw = {} if safety is None else {'safety': safety}
+        out.append(yw.ViscBridgeTimeStepper(label=label_prefix + 'timeStepper', **kw))
+    if integration == 'implicit' and hasattr(yw, 'ViscBridgeImplicitSolver'):
+        out.append(yw.ViscBridgeImplicitSolver(label=label_prefix + 'implicitSolver'))
+    out.append(yw.NewtonIntegrator(gravity=gravity, damping=0.0, label=label_prefix + 'newton'))
+    return out
+
+
+def _checked_engine_args(gravity, integration, timeStepper, safety, guard, label_prefix, effects):
+    """engines()'s arguments checked (ValueError naming the parameter); returns gravity as three
+    floats and the Ip2 attributes among `effects`."""
     f = 'engines'
     try:
         checked = tuple(_checks.number(f, 'gravity', g, 'three finite numbers [m/s²]') for g in gravity)
@@ -89,8 +110,7 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
         checked = None
     if checked is None or len(checked) != 3:
         _checks.reject(f, 'gravity', gravity, 'three finite numbers [m/s²], e.g. (0, 0, -9.81)')
-    gravity = checked
-    _checks.choice(f, 'integration', integration, criteria.INTEGRATIONS)
+    _checks.choice(f, 'integration', integration, INTEGRATIONS)
     _checks.boolean(f, 'timeStepper', timeStepper)
     _checks.boolean(f, 'guard', guard)
     if safety is not None:
@@ -106,17 +126,13 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
         raise ValueError("engines(integration='implicit', tangentialModel='washino'): 'washino' is not dissipative "
                          "(physics.md P7) and cannot be integrated implicitly; allowed with integration='implicit': "
                          "tangentialModel='none', 'slip', 'goldman'")
-    ip2 = yw.Ip2_FrictMat_FrictMat_ViscBridgePhys(label=label_prefix + 'viscBridgeIp2', **ip2_args)
-    law = yw.Law2_ScGeom_ViscBridgePhys_HertzViscous(label=label_prefix + 'viscBridgeLaw', integration=integration)
-    aabb, sphereFactor, reach, boxFactor = _detection_range(ip2.formationDistance, minRadius)
+    return checked, ip2_args
 
-    out = []
-    if guard and hasattr(yw, 'ViscBridgeGuard'):
-        # first: it checks the scene before the interaction loop could crash on it, and sees the
-        # last step's forces (before ForceResetter) to account for the work of moving walls
-        out.append(yw.ViscBridgeGuard(label=label_prefix + 'guard'))
-    out += [
-        yw.ForceResetter(),
+
+def _contact_engines(ip2, law, minRadius, label_prefix):
+    """The collider and the interaction loop, with detection ranges for bridges that form at a distance."""
+    aabb, sphereFactor, reach, boxFactor = _detection_range(ip2.formationDistance, minRadius)
+    return [
         yw.InsertionSortCollider([yw.Bo1_Sphere_Aabb(aabbEnlargeFactor=aabb), yw.Bo1_Wall_Aabb(),
                                   yw.Bo1_Facet_Aabb(), yw.Bo1_Box_Aabb()], label=label_prefix + 'collider'),
         yw.InteractionLoop(
@@ -126,10 +142,3 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
              yw.Ig2_Box_Sphere_ScGeom(interactionDetectionFactor=boxFactor)],
             [ip2], [law]),
     ]
-    if timeStepper and hasattr(yw, 'ViscBridgeTimeStepper'):
-        kw = {} if safety is None else {'safety': safety}
-        out.append(yw.ViscBridgeTimeStepper(label=label_prefix + 'timeStepper', **kw))
-    if integration == 'implicit' and hasattr(yw, 'ViscBridgeImplicitSolver'):
-        out.append(yw.ViscBridgeImplicitSolver(label=label_prefix + 'implicitSolver'))
-    out.append(yw.NewtonIntegrator(gravity=gravity, damping=0.0, label=label_prefix + 'newton'))
-    return out

@@ -1,22 +1,6 @@
-# One case of a viscbridge scan: the job script of the scan's yade-batch table (and of its Slurm
-# array job).  YADE_BATCH=<table>:<line> selects the case; the result is appended to
-# <scanDir>/results.jsonl.  See viscbridge.scan.
-import os
+# The job script under its path before viscbridge.scan became a package: scan.sbatch files written
+# then run `yade -n -x .../py/viscbridge/scan_job.py`, so they can still be resubmitted.  The job
+# itself is viscbridge/scan/job.py (viscbridge.scan.JOB_SCRIPT).
+from viscbridge.scan.job import main
 
-from yade import utils
-
-import viscbridge.scan as scan
-
-utils.readParamsFromTable(noTableOk=False, scanDir='.', **scan.CASE_DEFAULTS)
-from yade.params import table  # noqa: E402
-
-case = scan.normalize_case({k: getattr(table, k) for k in scan.CASE_DEFAULTS})
-results = scan.ResultsFile(os.path.join(table.scanDir, 'results.jsonl'))
-# a resubmitted Slurm array runs every line of the whole scan again: finished cases end at once
-if scan.case_key(case) in results.done_keys():
-    print('case %s is already in %s: skipped' % (scan.case_key(case), results.path))
-else:
-    result = scan.find_critical_dt(case, os.path.join(table.scanDir, 'beds'))
-    results.append(result)
-    print('critical dt %.4g s (stable %.4g, unstable %.4g), stepper %.4g s' % (
-        result['dt_critical'], result['dt_stable'], result['dt_unstable'], result['dt_stepper']))
+main()

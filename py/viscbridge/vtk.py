@@ -17,29 +17,11 @@ import math
 import os
 import xml.etree.ElementTree as ET
 
+from .measures import bridge_segments as _bridges  # the bridges' end points (measures.py)
+
 __all__ = ['write_bridges', 'BridgeSeries', 'bridge_recorder']
 
 _VECTORS = ('normalViscousForce', 'shearViscousForce', 'normalContactForce', 'shearContactForce')
-
-
-def _bridges(only_bridges):
-    """(end1, end2, phys, interaction) of every ViscBridge interaction (with a bridge, if asked)."""
-    from yade import O, Vector3
-    import yade.wrapper as yw
-    out = []
-    for i in O.interactions:
-        if not i.isReal or not isinstance(i.phys, yw.ViscBridgePhys) or (only_bridges and not i.phys.bridge):
-            continue
-        ph, n, gap = i.phys, i.geom.normal, -i.geom.penetrationDepth
-        p1 = O.bodies[i.id1].state.pos
-        p2 = O.bodies[i.id2].state.pos + (O.cell.hSize * Vector3(*i.cellDist) if O.periodic else Vector3.Zero)
-        # a sphere's end is its centre; a wall's, facet's or box's the point of its surface facing the sphere
-        if ph.radius1 <= 0:
-            p1 = p2 - n * (ph.radius2 + gap)
-        elif ph.radius2 <= 0:
-            p2 = p1 + n * (ph.radius1 + gap)
-        out.append((p1, p2, ph, i))
-    return out
 
 
 def _array(parent, name, values, components=1, kind='Float64'):

@@ -1,6 +1,6 @@
 # Writes tests/data/saved_scene.xml.gz and saved_scene.json: a small scene with every slot of the
 # registry active (pitois, goldman, willett, contact damping), saved by this release, and where its
-# bodies are 50 steps after loading.  tests/py/test_saved_scene.py loads it: a scene saved by a
+# bodies are 50 steps after loading.  tests/yade/test_saved_scenes.py loads it: a scene saved by a
 # release must keep loading and running the same.  Regenerate only when a change of the saved
 # format is intended:  ./yadew run tests/data/make_saved_scene.py
 import json

@@ -3,7 +3,7 @@
 // The plugin is compiled against YADE's source headers with feature macros derived from the
 // installed binary.  If a header or a macro did not match, member offsets would differ and the
 // values read here would disagree with YADE's own Python view of the same objects; the test
-// tests/py/test_header_probe.py compares the two on a scene with distinct non-default values.
+// tests/yade/test_header_probe.py compares the two on a scene with distinct non-default values.
 #pragma once
 #include <lib/serialization/Serializable.hpp>
 #include <boost/python/dict.hpp>

@@ -1,6 +1,6 @@
 // Ip2_FrictMat_FrictMat_ViscBridgePhys: creates ViscBridgePhys for two FrictMat bodies, with the
-// sub-models the scene selected (physics.md §2, §8; the models are listed in physics/SubModels.hpp,
-// the numeric parameters' ranges in physics/BridgeParameters.hpp).
+// sub-models the scene selected (physics.md §2, §8; the models are listed in core/models/Registry.hpp,
+// the numeric parameters' ranges in core/models/Parameters.hpp).
 #pragma once
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include "viscbridge/core/models/Parameters.hpp"

@@ -1,6 +1,6 @@
 // Law2_ScGeom_ViscBridgePhys_HertzViscous: Hertz–Mindlin contact with Coulomb friction plus the
 // liquid-bridge forces selected for the interaction (physics.md §2, §8), with energy tracking.  Each
-// interaction runs the kernel compiled for its models (physics/SubModels.hpp).
+// interaction runs the kernel compiled for its models (core/models/Registry.hpp).
 #pragma once
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include "viscbridge/core/models/EnergyKeys.hpp"

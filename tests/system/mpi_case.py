@@ -1,0 +1,132 @@
+"""The settling scene of tests/system/test_mpi.py, run serially (`yade -n -x mpi_case.py OUT ...`) or
+split by yade.mpy (`mpiexec -n N yade -n -x mpi_case.py OUT ...`).
+
+Every rank writes OUT.rank<k>.json: its own dt at every step, the error that stopped it (if any)
+and, on rank 0 (which holds the merged scene at the end), the positions, O.energy summed over the
+ranks, the initial kinetic energy and the bridges.  Options (after OUT):
+  --integration explicit|implicit   --steps N   --viscosity MU   --speed V (initial, m/s)   --tolerance TOL (implicit)
+  --dt DT         a fixed time step (no ViscBridgeTimeStepper)
+  --rayleigh-fraction F   ViscBridgeTimeStepper.rayleighFraction (1: the contacts, not the Rayleigh bound, set dt)
+  --no-guard      without ViscBridgeGuard
+  --mismatch      run 5 steps, then give rank 1 twice the dt and run on (must be refused)
+  --no-decompose  leave every particle to the master (must be refused)
+  --save FILE     rank 0 saves the merged scene at the end
+  --load FILE     serially: load FILE (saved by --save), try a step (refused), viscbridge.mpi.to_serial(), run
+"""
+import argparse
+import json
+import os
+import sys
+
+from yade import O, utils
+import yade.wrapper as yw
+
+import viscbridge.mpi
+import viscbridge.scenes as scenes
+
+ap = argparse.ArgumentParser()
+ap.add_argument('out')
+ap.add_argument('--integration', default='explicit')
+ap.add_argument('--steps', type=int, default=300)
+ap.add_argument('--viscosity', type=float, default=0.01)
+ap.add_argument('--speed', type=float, default=0.3)
+ap.add_argument('--tolerance', type=float, default=None)
+ap.add_argument('--dt', type=float, default=None)
+ap.add_argument('--rayleigh-fraction', type=float, default=None)
+ap.add_argument('--no-guard', action='store_true')
+ap.add_argument('--mismatch', action='store_true')
+ap.add_argument('--no-decompose', action='store_true')
+ap.add_argument('--save', default=None)
+ap.add_argument('--load', default=None)
+args = ap.parse_args(sys.argv[1:])
+
+distributed = 'OMPI_COMM_WORLD_SIZE' in os.environ  # serial runs do not even import mpy
+if distributed:
+    from yade import mpy as mp
+    mp.VERBOSE_OUTPUT = False
+
+
+def build():
+    """40 spheres in a column 5 diameters wide, thrown at 0.3 m/s (--speed) into each other and the walls,
+    bridges forming within 0.5 r: many bridges (across the subdomains too) and a large part of the
+    energy dissipated within 300 steps."""
+    scenes.settling(n=40, viscosity=args.viscosity, seed=3, initialSpeed=args.speed, cloudFraction=0.25, formationDistance=2.5e-4, width=5e-3,
+                    integration=args.integration, dt=args.dt, guard=not args.no_guard)
+    if args.tolerance:
+        for e in O.engines:
+            if isinstance(e, yw.ViscBridgeImplicitSolver):
+                e.tolerance = args.tolerance
+    if args.rayleigh_fraction:
+        for e in O.engines:
+            if isinstance(e, yw.ViscBridgeTimeStepper):
+                e.rayleighFraction = args.rayleigh_fraction
+    if not args.no_decompose:
+        viscbridge.mpi.decompose(axis=0)
+    O.engines = O.engines + [yw.PyRunner(iterPeriod=1, initRun=True, command='DTS.append(O.dt)', label='dtRecorder')]
+
+
+if args.load:
+    O.load(args.load)
+else:
+    build()
+initial_kinetic = utils.kineticEnergy()
+DTS = []
+import builtins
+builtins.DTS = DTS  # PyRunner commands run in __main__ of yade, not here
+
+me = viscbridge.mpi.rank()
+result = dict(rank=me, ranks=viscbridge.mpi.ranks(), error=None)
+
+
+def run(steps):
+    if distributed:
+        mp.mpirun(steps, mp.numThreads, withMerge=True)
+    else:
+        O.run(steps, True)
+
+
+if args.load:  # a merged scene runs on serially only once it is made serial again
+    try:
+        O.run(1, True)
+    except RuntimeError as error:
+        result['refusedBeforeToSerial'] = str(error)
+    result['toSerial'] = viscbridge.mpi.to_serial()
+guards = [e for e in O.engines if isinstance(e, yw.ViscBridgeGuard)]
+error_before = guards[0].lastError if guards else ''
+try:
+    if args.mismatch:
+        run(5)
+        if me == 1:
+            O.dt *= 2
+        run(args.steps)
+    else:
+        run(args.steps)
+except Exception as error:  # every rank must stop with the same message, none may hang
+    result['error'] = '%s: %s' % (type(error).__name__, error)
+if result['error'] is None and guards and guards[0].lastError != error_before:
+    # YADE's O.run(n, True) can miss an error thrown in the engine thread at the very first step
+    # (it returns as if the run had finished, O.iter still 0): the guard has kept the message
+    result['error'] = 'RuntimeError: ' + guards[0].lastError
+result['iter'] = O.iter
+result['dts'] = DTS
+if result['error'] is None:
+    result['energy'] = viscbridge.mpi.energy()
+    if me == 0:
+        spheres = [b for b in O.bodies if isinstance(b.shape, yw.Sphere)]
+        result['positions'] = {b.id: list(b.state.pos) for b in spheres}
+        bridges = [i for i in O.interactions if i.isReal and i.phys.bridge]
+        result['bridges'] = len(bridges)
+        result['crossBridges'] = sum(1 for i in bridges if min(O.bodies[i.id1].subdomain, O.bodies[i.id2].subdomain) > 0
+                                     and O.bodies[i.id1].subdomain != O.bodies[i.id2].subdomain)
+        result['initialKinetic'] = initial_kinetic
+        solver = [e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver)]
+        if solver:
+            result['solver'] = dict(iterations=solver[0].totalIterations, solves=solver[0].solves, residual=solver[0].residual,
+                                    tolerance=solver[0].tolerance)
+        guard = [e for e in O.engines if isinstance(e, yw.ViscBridgeGuard)]
+        if guard:
+            result['guardChecks'] = guard[0].checks
+if args.save and me == 0 and result['error'] is None:
+    O.save(args.save)
+with open('%s.rank%d.json' % (args.out, me), 'w') as fh:
+    json.dump(result, fh)

@@ -1,0 +1,51 @@
+"""viscbridge.scan inside YADE: the trial's instability verdicts on a wetted bed, and the case fields'
+ranges and model names against what the C++ Ip2 accepts."""
+import math
+
+import pytest
+
+import viscbridge.criteria as criteria
+import viscbridge.scan as scan
+
+pytestmark = pytest.mark.slow  # a dry bed is settled and wetted trials run
+
+TINY = dict(n=40, steps=300, tolerance=0.2, seed=2)
+
+
+@pytest.fixture(scope='module')
+def bed_dir(tmp_path_factory):
+    return str(tmp_path_factory.mktemp('beds'))
+
+
+def test_criterion_classifies_known_runs(bed_dir):
+    """Wetted bed: stable at half the time stepper's step, unstable at 3× the pair limit 2 t_v."""
+    case = scan.normalize_case(dict(TINY, viscosity=10.0))
+    trial = scan._Trial(case, scan.dry_bed(case, bed_dir))
+    dt_stepper = trial.stepper_dt()['dt_stepper']
+    assert trial.unstable_at(0.5 * dt_stepper) is None
+    t_v = 4.0 / 9.0 * 2500 * 0.5e-3 * (1e-3 * 0.25e-3) / 10.0
+    why = trial.unstable_at(3 * 2 * t_v)
+    assert why and ('exceeds' in why or 'non-finite' in why)
+
+
+def test_allowed_values_are_those_of_the_ip2():
+    """Model names come from viscbridge.criteria (as ModelNames.hpp); the liquid ranges agree with
+    what the C++ functor accepts, probed at and around their ends."""
+    import yade.wrapper as yw
+    assert scan.CASE_FIELDS['normalModel'].allowed is criteria.NORMAL_MODELS
+    assert scan.CASE_FIELDS['tangentialModel'].allowed is criteria.TANGENTIAL_MODELS
+    assert scan.CASE_FIELDS['integration'].allowed is criteria.INTEGRATIONS
+    assert set(scan.CASE_FIELDS) == set(scan.CASE_DEFAULTS)
+
+    def ip2_accepts(**kw):
+        try:
+            yw.Ip2_FrictMat_FrictMat_ViscBridgePhys(**kw)
+            return True
+        except ValueError:
+            return False
+    for field in ('normalModel', 'tangentialModel'):
+        for name in scan.CASE_FIELDS[field].allowed + ('foo',):
+            assert ip2_accepts(**{field: name}) == (name in scan.CASE_FIELDS[field].allowed)
+    for field in ('viscosity', 'sMinRel', 'bridgeVolumeRel', 'contactAngle', 'en'):
+        for v in (-1.0, 0.0, 1e-9, 0.5, 1.0, 1.5, math.pi / 2, math.pi / 2 + 1e-9, 2.0):
+            assert ip2_accepts(**{field: v}) == (v in scan.CASE_FIELDS[field].allowed), (field, v)
