@@ -1,7 +1,7 @@
 // A test engine that consumes the law's bridge events the way any new engine would: it includes the
 // scene's context and the physics class, and nothing of the other engines (docs/architecture.md,
 // "A new engine").  Built into libviscbridge_test_engines.so (tests/engines/), loaded only by the tests.
-#include "viscbridge/scene/ViscBridgeContext.hpp"
+#include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include <core/GlobalEngine.hpp>
 #include <core/Scene.hpp>

@@ -10,6 +10,7 @@ ranks, the initial kinetic energy and the bridges.  Options (after OUT):
   --no-guard      without ViscBridgeGuard
   --mismatch      run 5 steps, then give rank 1 twice the dt and run on (must be refused)
   --no-decompose  leave every particle to the master (must be refused)
+  --events        the test engine ViscBridgeEventCounter after the interaction loop (its counts per rank)
   --save FILE     rank 0 saves the merged scene at the end
   --load FILE     serially: load FILE (saved by --save), try a step (refused), viscbridge.mpi.to_serial(), run
 """
@@ -36,6 +37,7 @@ ap.add_argument('--rayleigh-fraction', type=float, default=None)
 ap.add_argument('--no-guard', action='store_true')
 ap.add_argument('--mismatch', action='store_true')
 ap.add_argument('--no-decompose', action='store_true')
+ap.add_argument('--events', action='store_true')
 ap.add_argument('--save', default=None)
 ap.add_argument('--load', default=None)
 args = ap.parse_args(sys.argv[1:])
@@ -60,6 +62,9 @@ def build():
         for e in O.engines:
             if isinstance(e, yw.ViscBridgeTimeStepper):
                 e.rayleighFraction = args.rayleigh_fraction
+    if args.events:
+        loop = next(i for i, e in enumerate(O.engines) if isinstance(e, yw.InteractionLoop))
+        O.engines = O.engines[:loop + 1] + [yw.ViscBridgeEventCounter(label='eventCounter')] + O.engines[loop + 1:]
     if not args.no_decompose:
         viscbridge.mpi.decompose(axis=0)
     O.engines = O.engines + [yw.PyRunner(iterPeriod=1, initRun=True, command='DTS.append(O.dt)', label='dtRecorder')]
@@ -108,6 +113,10 @@ if result['error'] is None and guards and guards[0].lastError != error_before:
     # (it returns as if the run had finished, O.iter still 0): the guard has kept the message
     result['error'] = 'RuntimeError: ' + guards[0].lastError
 result['iter'] = O.iter
+counters = [e for e in O.engines if isinstance(e, yw.ViscBridgeEventCounter)]
+if counters:
+    c = counters[0]
+    result['events'] = dict(formed=c.formed, ruptured=c.ruptured, mismatches=c.mismatches, outOfOrder=c.outOfOrder)
 result['dts'] = DTS
 if result['error'] is None:
     result['energy'] = viscbridge.mpi.energy()

@@ -132,6 +132,22 @@ def test_implicit_settling_matches_serial(ranks, viscosity, speed):
     assert_matches_serial(serial, parallel, dt_tolerance=1e-12 if viscosity > 0.1 else 1e-9)
 
 
+def test_bridge_events_on_every_rank():
+    """The test engine ViscBridgeEventCounter on 3 ranks: each rank's law publishes the formations and
+    ruptures of its interactions, its engines read them in order and they agree with the interactions;
+    the workers together see at least the serial run's formations (a bridge across two subdomains is
+    on both)."""
+    serial, parallel = run_case(1, '--events'), run_case(3, '--events')
+    assert all(r['error'] is None for r in serial + parallel), [r['error'] for r in serial + parallel]
+    s = serial[0]['events']
+    assert s['formed'] > 40 and s['ruptured'] > 0
+    for r in serial + parallel:
+        assert r['events']['mismatches'] == 0 and r['events']['outOfOrder'] == 0, r
+    workers = [r['events'] for r in parallel if r['rank'] > 0]
+    assert sum(e['formed'] for e in workers) >= s['formed']
+    assert all(e['formed'] > 0 for e in workers)
+
+
 def test_implicit_difference_scales_with_the_solver_tolerance():
     """At the default tolerance (1e-6) the 3-rank positions agree with the serial ones to within 10×
     that tolerance (measured: 2.5e-6), and they move closer as the tolerance is tightened: the solve

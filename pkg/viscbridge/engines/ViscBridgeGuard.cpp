@@ -6,7 +6,7 @@
 #include "viscbridge/core/timestep/TimeStepBounds.hpp"
 #include "viscbridge/core/util/Validation.hpp"
 #include "viscbridge/scene/SceneValidation.hpp"
-#include "viscbridge/scene/ViscBridgeContext.hpp"
+#include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/distributed/Distributed.hpp"
 #include <core/InteractionLoop.hpp>
 #include <core/Scene.hpp>
@@ -244,7 +244,7 @@ std::string ViscBridgeGuard::diagnose(Body::id_t worst, const std::string& what)
 	msg.precision(4);
 	msg << "ViscBridgeGuard stopped the run at step " << scene->iter << " (t = " << scene->time << " s, dt = " << scene->dt << " s): " << what << ".";
 	const bool implicit = viscousIntegrationIsImplicit(scene);
-	const auto& functors = ViscBridgeContext::of(scene).functors(scene);
+	const auto functors = findViscBridgeFunctors(scene);
 	// a tangential model that is not dissipative can put energy in by itself (physics.md P7)
 	const bool washino = functors.ip2 && !viscbridge::TangentialModels::capabilities[functors.ip2->selection.tangential].dissipative;
 	bound.evaluate(scene, implicit, 0.4);

@@ -1,11 +1,11 @@
 #include "viscbridge/engines/ViscBridgeTimeStepper.hpp"
-#include "viscbridge/scene/ViscBridgeContext.hpp"
+#include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/scene/SceneValidation.hpp"
 #include "viscbridge/core/timestep/NetworkSpectrum.hpp"
 #include "viscbridge/core/timestep/TimeStepBounds.hpp"
 #include "viscbridge/core/util/Validation.hpp"
 #include "viscbridge/distributed/Distributed.hpp"
-#include "viscbridge/distributed/NetworkOverRanks.hpp"
+#include "viscbridge/scene/NetworkOverRanks.hpp"
 #include <algorithm>
 #include <limits>
 #include <numeric>

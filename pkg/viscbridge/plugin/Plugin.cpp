@@ -6,7 +6,7 @@
 #include "viscbridge/yade/Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include "viscbridge/yade/ViscBridgeState.hpp"
-#include "viscbridge/scene/ViscBridgeContext.hpp"
+#include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/engines/ViscBridgeTimeStepper.hpp"
 #include "viscbridge/engines/ViscBridgeGuard.hpp"
 #include "viscbridge/engines/ViscBridgeImplicitSolver.hpp"

@@ -86,13 +86,6 @@ ViscBridgeFunctors findViscBridgeFunctors(const Scene* scene)
 	return out;
 }
 
-bool hasEngine(const Scene* scene, const std::string& className)
-{
-	for (const auto& e : scene->engines)
-		if (e->getClassName() == className) return true;
-	return false;
-}
-
 size_t sceneSignature(const Scene* scene)
 {
 	size_t h = 0;

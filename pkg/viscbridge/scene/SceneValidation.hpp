@@ -17,9 +17,6 @@ struct ViscBridgeFunctors {
 };
 ViscBridgeFunctors findViscBridgeFunctors(const Scene* scene);
 
-// Whether O.engines has an engine of class `className` (by name: engines never know each other's classes).
-bool hasEngine(const Scene* scene, const std::string& className);
-
 // Changes whenever bodies, materials, engines or the functors of an InteractionLoop change (not
 // when a body is moved): the validation below is redone then.
 size_t sceneSignature(const Scene* scene);

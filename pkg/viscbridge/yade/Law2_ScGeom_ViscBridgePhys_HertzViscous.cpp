@@ -1,7 +1,7 @@
 #include "viscbridge/yade/Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
 #include "viscbridge/distributed/Distributed.hpp"
 #include "viscbridge/core/pair/PairKernel.hpp"
-#include "viscbridge/scene/ViscBridgeContext.hpp"
+#include "viscbridge/yade/ViscBridgeContext.hpp"
 #include <core/Omega.hpp>
 #include <core/Scene.hpp>
 #include <array>
@@ -132,7 +132,7 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::beginStep()
 			context = ViscBridgeContext::shared(scene);
 			context->beginStep(scene->iter);
 			stepImplicit = integrationIndex == static_cast<int>(vb::Integration::implicitEuler);
-			if (stepImplicit && !hasEngine(scene, "ViscBridgeImplicitSolver")) {
+			if (stepImplicit && !ViscBridgeContext::hasEngine(scene, "ViscBridgeImplicitSolver")) {
 				stepImplicit = false;
 				reportMissingSolver();
 			}

@@ -27,6 +27,13 @@ ViscBridgeState& ViscBridgeState::of(Body& body)
 	return *converted;
 }
 
+shared_ptr<ViscBridgeState> ViscBridgeState::pyOf(const shared_ptr<Body>& body)
+{
+	if (!body) throw std::invalid_argument("ViscBridgeState.of: body=None; allowed: a body of O.bodies.");
+	of(*body);
+	return YADE_PTR_DYN_CAST<ViscBridgeState>(body->state);
+}
+
 const ViscBridgeState* ViscBridgeState::peek(const Body& body) { return dynamic_cast<const ViscBridgeState*>(body.state.get()); }
 
 void ViscBridgeState::postLoad(ViscBridgeState&)

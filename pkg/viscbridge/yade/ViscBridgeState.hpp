@@ -24,18 +24,22 @@ public:
 	static ViscBridgeState& of(Body& body);
 	// The body's ViscBridgeState, or nullptr while it has a plain State (any thread).
 	static const ViscBridgeState* peek(const Body& body);
+	static shared_ptr<ViscBridgeState> pyOf(const shared_ptr<Body>& body); // of(), for Python
 	void                          postLoad(ViscBridgeState&);
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(ViscBridgeState, State,
 		"State of a particle with the quantities ViscBridge keeps per particle (besides :yref:`State`'s). "
 		"ViscBridge converts a body's plain :yref:`State` into one when it first stores such a quantity; "
 		"you can also assign one yourself (``b.state = ViscBridgeState()`` before setting mass and position, "
-		"or ``viscbridge.liquid`` does it for you). Saved with the scene and moved with the body by yade.mpy.",
+		"or ``ViscBridgeState.of(body)`` converts a body's state keeping all of it). Saved with the scene and moved with the body by yade.mpy.",
 		((Real,film,0,Attr::triggerPostLoad,"Volume of the liquid film on the particle [m³], >= 0: the liquid it can give to new bridges with :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys.liquidModel` = 'film'."))
 		,
 		/* ctor */ createIndex(); rollback.keep(std::tie(film));
 		,
 		/* py */
+		.def("of", &ViscBridgeState::pyOf, (boost::python::arg("body")),
+		     "The body's ViscBridgeState: its state if it is one, else its :yref:`State` converted in place (every attribute kept).")
+		.staticmethod("of")
 	);
 	// clang-format on
 	REGISTER_CLASS_INDEX(ViscBridgeState, State);

@@ -1,4 +1,4 @@
-#include "viscbridge/scene/ViscBridgeContext.hpp"
+#include "viscbridge/yade/ViscBridgeContext.hpp"
 #include <core/Engine.hpp>
 #include <lib/factory/ClassFactory.hpp>
 #include <algorithm>
@@ -19,15 +19,11 @@ shared_ptr<ViscBridgeContext> ViscBridgeContext::shared(Scene* scene)
 
 ViscBridgeContext& ViscBridgeContext::of(Scene* scene) { return *shared(scene); }
 
-const ViscBridgeFunctors& ViscBridgeContext::functors(const Scene* scene)
+bool ViscBridgeContext::hasEngine(const Scene* scene, const std::string& className)
 {
-	const size_t signature = sceneSignature(scene);
-	if (!functorsKnown || signature != functorsSignature) {
-		cachedFunctors    = findViscBridgeFunctors(scene);
-		functorsSignature = signature;
-		functorsKnown     = true;
-	}
-	return cachedFunctors;
+	for (const auto& e : scene->engines)
+		if (e->getClassName() == className) return true;
+	return false;
 }
 
 void ViscBridgeContext::raiseAtNextStep(Scene* scene, const std::string& message)

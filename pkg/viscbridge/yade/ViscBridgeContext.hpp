@@ -2,8 +2,6 @@
 //
 // Engines never include or cast to each other's classes; what one tells another goes through
 // here (docs/architecture.md, "Channels"):
-//   - the scene's ViscBridge functors (the Ip2 and the Law2 of its InteractionLoop), looked up once
-//     per change of the scene;
 //   - errors found where nothing can be thrown (inside InteractionLoop's parallel loop), raised by
 //     ViscBridgeGuard at the start of the next step;
 //   - the work of the conservative bridge forces (capillary, physics.md P21), booked by the law with
@@ -15,8 +13,7 @@
 // One context lives in each scene, in Scene::miscParams (created on first use, gone with the
 // scene; nothing of it is saved: a loaded scene starts with an empty one).
 #pragma once
-#include "viscbridge/scene/BridgeEvent.hpp"
-#include "viscbridge/scene/SceneValidation.hpp"
+#include "viscbridge/yade/BridgeEvent.hpp"
 #include <core/Scene.hpp>
 #include <lib/base/openmp-accu.hpp>
 #include <lib/serialization/Serializable.hpp>
@@ -33,9 +30,6 @@ class ViscBridgeContext : public Serializable {
 	long                                  publishedIter = -1, mergedIter = -1;
 	std::string                           pendingError;
 	std::mutex                            pendingMutex;
-	ViscBridgeFunctors                    cachedFunctors;
-	size_t                                functorsSignature = 0;
-	bool                                  functorsKnown     = false;
 
 public:
 	// The scene's context, created in scene->miscParams on first use.  Not thread-safe: called from
@@ -43,8 +37,8 @@ public:
 	static ViscBridgeContext&        of(Scene* scene);
 	static shared_ptr<ViscBridgeContext> shared(Scene* scene); // the same, held
 
-	// The ViscBridge functors of the scene's InteractionLoop, looked up again when the scene changes.
-	const ViscBridgeFunctors& functors(const Scene* scene);
+	// Whether O.engines has an engine of class `className` (by name: engines never know each other's classes).
+	static bool hasEngine(const Scene* scene, const std::string& className);
 
 	// Errors found where nothing can be thrown: the first one is raised by ViscBridgeGuard at the start
 	// of the next step (a guard is added to O.engines for this if there is none).

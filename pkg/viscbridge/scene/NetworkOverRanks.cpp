@@ -1,4 +1,4 @@
-#include "viscbridge/distributed/NetworkOverRanks.hpp"
+#include "viscbridge/scene/NetworkOverRanks.hpp"
 #include <algorithm>
 #include <limits>
 
