@@ -7,11 +7,12 @@
 writes ``out/wet-bridges.<iter>.vtp`` (VTK XML PolyData) and ``out/wet-bridges.pvd``, the time
 series ParaView opens in one go (File ▸ Open ▸ ``wet-bridges.pvd``).  Every ViscBridge interaction
 is a line from body 1 to body 2 — sphere centres, or the foot of the bridge on a wall, facet or
-box — with its state as cell data: ``bridge`` (1 while a liquid bridge exists), ``gap`` S [m],
-``cn``, ``ct`` [N·s/m], the viscous and contact forces on body 1 [N] (``normalViscousForce``,
-``shearViscousForce``, ``normalContactForce``, ``shearContactForce``), ``viscousForce`` (the
-magnitude of the viscous force) and the body ids.  Load it with YADE's ``VTKRecorder`` files
-(spheres, walls) to colour the bridges of a packing by their gap or force.
+box — with its state as cell data: every output field of the per-contact record (``_registry.RECORD``:
+``bridge``, ``separation``, ``cn``, ``ct``, ``cr``, the contact, viscous and capillary forces on
+body 1 [N], ...), ``gap`` (S [m], the scalar ParaView colours by first), the bridge's liquid
+``bridgeVolume`` [m³] and rupture distance ``sRup`` [m], ``viscousForce`` (the magnitude of the
+viscous force) and the body ids.  Load it with YADE's ``VTKRecorder`` files (spheres, walls) to
+colour the bridges of a packing by their gap or force.
 """
 import math
 import os
@@ -21,7 +22,13 @@ from .measures import bridge_segments as _bridges  # the bridges' end points (me
 
 __all__ = ['write_bridges', 'BridgeSeries', 'bridge_recorder']
 
-_VECTORS = ('normalViscousForce', 'shearViscousForce', 'normalContactForce', 'shearContactForce')
+from ._registry import RECORD
+
+# One source of truth: what each contact records is listed once (core/pair/PairRecord.hpp); every
+# output field of it becomes a cell array, plus the per-bridge constants a user colours by.
+_KIND = {'Real': ('Float64', 1), 'Vector3r': ('Float64', 3), 'bool': ('Int32', 1)}
+CELL_FIELDS = tuple((name, *_KIND[spec['type']]) for name, spec in RECORD.items() if spec['output']) + (
+    ('bridgeVolume', 'Float64', 1), ('sRup', 'Float64', 1))
 
 
 def _array(parent, name, values, components=1, kind='Float64'):
@@ -42,12 +49,10 @@ def write_bridges(path, only_bridges=False):
     _array(lines, 'connectivity', range(2 * len(rows)), kind='Int64')
     _array(lines, 'offsets', range(2, 2 * len(rows) + 1, 2), kind='Int64')
     cells = ET.SubElement(piece, 'CellData', Scalars='gap')
-    _array(cells, 'bridge', [ph.bridge for _, _, ph, _ in rows], kind='Int32')
     _array(cells, 'gap', [ph.separation for _, _, ph, _ in rows])
-    _array(cells, 'cn', [ph.cn for _, _, ph, _ in rows])
-    _array(cells, 'ct', [ph.ct for _, _, ph, _ in rows])
-    for name in _VECTORS:
-        _array(cells, name, [c for _, _, ph, _ in rows for c in getattr(ph, name)], 3)
+    for name, kind, components in CELL_FIELDS:
+        values = [getattr(ph, name) for _, _, ph, _ in rows]
+        _array(cells, name, [c for v in values for c in v] if components > 1 else values, components, kind)
     _array(cells, 'viscousForce', [(ph.normalViscousForce + ph.shearViscousForce).norm() for _, _, ph, _ in rows])
     _array(cells, 'id1', [i.id1 for _, _, _, i in rows], kind='Int64')
     _array(cells, 'id2', [i.id2 for _, _, _, i in rows], kind='Int64')
@@ -69,12 +74,16 @@ class BridgeSeries:
     def collection(self):
         return self.prefix + 'bridges.pvd'
 
-    def record(self):
+    def record(self, after_step=False):
+        """Write the scene's bridges now.  Called from the recorder's PyRunner, which runs after the
+        integrator (`after_step`): the positions are then those of the next step, so the frame is
+        numbered and timed as that step — a run of N steps ends with frame N."""
         from yade import O
-        path = '%sbridges.%010d.vtp' % (self.prefix, O.iter)
+        iteration, time = (O.iter + 1, O.time + O.dt) if after_step else (O.iter, O.time)
+        path = '%sbridges.%010d.vtp' % (self.prefix, iteration)
         write_bridges(path, self.only_bridges)
         if not (self.steps and self.steps[-1][1] == path):
-            self.steps.append((O.time, path))
+            self.steps.append((time, path))
         self._write_collection()
         return path
 
@@ -102,10 +111,16 @@ def bridge_recorder(prefix, iterPeriod=None, virtPeriod=None, only_bridges=False
         raise ValueError('bridge_recorder: give exactly one of iterPeriod=... (steps) or virtPeriod=... [s]')
     if not isinstance(prefix, str) or not prefix:
         _checks.reject('bridge_recorder', 'prefix', prefix, 'a non-empty path prefix')
-    _SERIES[prefix] = BridgeSeries(prefix, only_bridges)
-    command = 'import viscbridge.vtk; viscbridge.vtk._SERIES[%r].record()' % prefix
+    series = _SERIES[prefix] = BridgeSeries(prefix, only_bridges)
+    command = 'import viscbridge.vtk; viscbridge.vtk._SERIES[%r].record(after_step=True)' % prefix
     if iterPeriod is not None:
-        return yw.PyRunner(iterPeriod=_checks.integer('bridge_recorder', 'iterPeriod', iterPeriod, minimum=1), command=command,
-                           initRun=True)
-    return yw.PyRunner(virtPeriod=_checks.positive('bridge_recorder', 'virtPeriod', virtPeriod, ' [s]'), command=command,
-                       initRun=True)
+        period = _checks.integer('bridge_recorder', 'iterPeriod', iterPeriod, minimum=1)
+    else:
+        virtPeriod = _checks.positive('bridge_recorder', 'virtPeriod', virtPeriod, ' [s]')
+    from yade import O
+    series.record()  # the state the run starts from
+    if iterPeriod is None:
+        return yw.PyRunner(virtPeriod=virtPeriod, command=command)
+    # The runner ends steps O.iter + period - 1, + 2·period - 1, ...: frames O.iter + period, ...
+    first = O.iter + period - 1
+    return yw.PyRunner(iterPeriod=period, firstIterRun=first, initRun=first == 0, command=command)

@@ -33,7 +33,7 @@ NAMES_BEFORE = {
     find_critical_dt grid main normalize_case one_at_a_time period_two_ringing run_cases settled_bed
     slurm_script unique_cases write_table""",
     'viscbridge.vtk': """
-    BridgeSeries _SERIES _VECTORS _array _bridges bridge_recorder write_bridges""",
+    BridgeSeries CELL_FIELDS _SERIES _array _bridges bridge_recorder write_bridges""",
 }
 
 

@@ -54,14 +54,30 @@ def test_recorder_writes_a_time_series_paraview_can_open(tmp_path):
     wet_pair_and_wall()
     prefix = str(tmp_path / 'out' / 'wet-')
     O.engines = O.engines + [vtk.bridge_recorder(prefix, iterPeriod=10)]
-    O.run(35, True)
+    O.run(30, True)
     coll = ET.parse(prefix + 'bridges.pvd').getroot().find('Collection')
     sets = coll.findall('DataSet')
-    assert len(sets) == 4  # iterations 0, 10, 20, 30
+    # the starting state and the end of steps 10, 20 and 30: a run of 30 steps ends with its last frame
+    assert [s.get('file')[-14:-4] for s in sets] == ['%010d' % i for i in (0, 10, 20, 30)]
     times = [float(s.get('timestep')) for s in sets]
-    assert times == sorted(times) and 0 < times[-1] < O.time
+    assert times[0] == 0 and times == sorted(times) and times[-1] == pytest.approx(O.time, rel=1e-12)
     for s in sets:
         assert os.path.isfile(os.path.join(os.path.dirname(prefix), s.get('file')))
+    piece, a = arrays(os.path.join(os.path.dirname(prefix), sets[-1].get('file')))
+    bridges = [i for i in O.interactions if i.isReal]
+    assert a['bridgeVolume'] == pytest.approx([i.phys.bridgeVolume for i in bridges]) and min(a['bridgeVolume']) > 0
+    assert a['capillaryForce'] == pytest.approx([c for i in bridges for c in i.phys.capillaryForce])
+
+
+def test_every_output_of_the_contact_record_is_a_cell_array(tmp_path):
+    from viscbridge._registry import RECORD
+    wet_pair_and_wall()
+    O.run(2, True)
+    path = str(tmp_path / 'b.vtp')
+    vtk.write_bridges(path)
+    _, a = arrays(path)
+    outputs = [name for name, spec in RECORD.items() if spec['output']]
+    assert 'capillaryForce' in outputs and set(outputs) <= set(a)
 
 
 def test_recorder_arguments():
