@@ -17,7 +17,7 @@ RESULTS = os.path.join(os.path.dirname(HERE), 'docs', 'perf')
 #: The configurations of the law-cost benchmarks, see engines().
 CONFIGS = ['yade_mindlin', 'vb_dry', 'vb_normal_adamsPerchard', 'vb_normal_pitois', 'vb_tangential_slip',
            'vb_tangential_goldman', 'vb_tangential_washino', 'vb_contact_damping', 'vb_capillary_willett',
-           'vb_capillary_rabinovich', 'vb_all', 'yade_implicit_lubrication']
+           'vb_capillary_rabinovich', 'vb_all', 'vb_all_film', 'yade_implicit_lubrication']
 
 
 def bed(n, seed=5):
@@ -59,6 +59,8 @@ def engines(config):
         vb_capillary_willett=dict(viscosity=0.0, capillaryModel='willett', surfaceTension=0.072),
         vb_capillary_rabinovich=dict(viscosity=0.0, capillaryModel='rabinovich', surfaceTension=0.072),
         vb_all=dict(viscosity=1.0, normalModel='adamsPerchard', tangentialModel='slip', en=0.5),
+        # the same with conserved liquid: bridges take it from films (set in load()), ViscBridgeLiquid after the loop
+        vb_all_film=dict(viscosity=1.0, normalModel='adamsPerchard', tangentialModel='slip', en=0.5, liquidModel='film'),
     )
     if config == 'yade_mindlin':
         ip2, law = yw.Ip2_FrictMat_FrictMat_MindlinPhys(), yw.Law2_ScGeom_MindlinPhys_Mindlin()
@@ -79,8 +81,9 @@ def engines(config):
         law = yw.Law2_ScGeom_ViscBridgePhys_HertzViscous()
     else:
         raise ValueError('unknown configuration %r' % config)
+    liquid = [yw.ViscBridgeLiquid()] if getattr(ip2, 'liquidModel', None) == 'film' else []
     return [yw.ForceResetter(), yw.InsertionSortCollider([yw.Bo1_Sphere_Aabb(), yw.Bo1_Wall_Aabb()]),
-            yw.InteractionLoop(loop_geoms, [ip2], [law]), yw.NewtonIntegrator(gravity=(0, 0, -9.81), damping=0.0)]
+            yw.InteractionLoop(loop_geoms, [ip2], [law])] + liquid + [yw.NewtonIntegrator(gravity=(0, 0, -9.81), damping=0.0)]
 
 
 def load(bed_path, config, dt=1e-9):
@@ -101,6 +104,10 @@ def load(bed_path, config, dt=1e-9):
                 b.shape.radius *= 1 - shrink
     O.interactions.clear()
     O.engines = engines(config)
+    if config.endswith('_film'):  # every sphere wetted with 5 % of its volume
+        import viscbridge.liquid
+        spheres = [b.id for b in O.bodies if isinstance(b.shape, yw.Sphere)]
+        viscbridge.liquid.set_film(spheres, [0.05 * 4 / 3 * 3.141592653589793 * O.bodies[i].shape.radius ** 3 for i in spheres])
     O.dt = dt
     O.trackEnergy = False
 

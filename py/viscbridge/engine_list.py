@@ -62,7 +62,7 @@ def _detection_range(formationDistance, minRadius):
 
 
 def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, safety=None, guard=True,
-            minRadius=None, label_prefix='', **effects):
+            minRadius=None, label_prefix='', ruptureSplit='half', **effects):
     """Return ``O.engines`` for a wet scene.
 
     Keyword arguments of :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys` select the effects and the
@@ -70,7 +70,10 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
     ``contactAngle`` [rad], ``sMin`` [m] or ``sMinRel``, ``normalModel`` ('none', 'adamsPerchard',
     'pitois'), ``tangentialModel`` ('none', 'washino', 'slip', 'goldman'), ``capillaryModel``
     ('none', 'willett', 'rabinovich') with ``surfaceTension`` [N/m], ``formationDistance`` [m] and
-    ``en`` (contact restitution).  Invalid values raise ValueError naming the parameter.
+    ``en`` (contact restitution), ``liquidModel`` ('fixed' or 'film': bridges take their liquid from
+    the particles' films and give it back, with the ViscBridgeLiquid engine inserted after the
+    interaction loop; set the films with :mod:`viscbridge.liquid`).  Invalid values raise ValueError
+    naming the parameter.
 
     integration: 'explicit' or 'implicit' (viscous forces by backward Euler over the contact
         network, with the ViscBridgeImplicitSolver engine inserted before the integrator).
@@ -80,7 +83,9 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
     minRadius: smallest sphere radius, used with formationDistance > 0 to set the detection range
         (default: taken from O.bodies).
     label_prefix: prefix of the engines' labels ('collider', 'viscBridgeIp2', 'viscBridgeLaw',
-        'newton', 'timeStepper', 'implicitSolver', 'guard').
+        'newton', 'timeStepper', 'implicitSolver', 'guard', 'liquid').
+    ruptureSplit: with liquidModel='film', how a ruptured bridge's liquid returns to the films:
+        'half' or 'radius' (ViscBridgeLiquid.ruptureSplit).
     """
     gravity, ip2_args = _checked_engine_args(gravity, integration, timeStepper, safety, guard, label_prefix, effects)
     ip2 = yw.Ip2_FrictMat_FrictMat_ViscBridgePhys(label=label_prefix + 'viscBridgeIp2', **ip2_args)
@@ -91,6 +96,10 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
         # last step's forces (before ForceResetter) to account for the work of moving walls
         out.append(yw.ViscBridgeGuard(label=label_prefix + 'guard'))
     out += [yw.ForceResetter()] + _contact_engines(ip2, law, minRadius, label_prefix)
+    if ip2.liquidModel == 'film':  # before the stepper: it sees the new bridges' actual volumes
+        out.append(yw.ViscBridgeLiquid(label=label_prefix + 'liquid', ruptureSplit=ruptureSplit))
+    elif ruptureSplit != 'half':
+        raise ValueError("engines(ruptureSplit=%r): the split of a ruptured bridge's liquid needs liquidModel='film'" % (ruptureSplit,))
     if timeStepper and hasattr(yw, 'ViscBridgeTimeStepper'):
         kw = {} if safety is None else {'safety': safety}
         out.append(yw.ViscBridgeTimeStepper(label=label_prefix + 'timeStepper', **kw))
@@ -120,7 +129,7 @@ def _checked_engine_args(gravity, integration, timeStepper, safety, guard, label
     ip2_args, rest = bridge_parameters(**effects)
     if rest:
         raise ValueError('engines(): unknown parameter(s) %s; allowed: %s, gravity, integration, '
-                         'timeStepper, safety, guard, minRadius, label_prefix'
+                         'timeStepper, safety, guard, minRadius, label_prefix, ruptureSplit'
                          % (', '.join(sorted(rest)), ', '.join(sorted(ip2_defaults()))))
     if integration == 'implicit' and ip2_args.get('tangentialModel') == 'washino':
         raise ValueError("engines(integration='implicit', tangentialModel='washino'): 'washino' is not dissipative "

@@ -11,6 +11,7 @@ from yadeproc import run_yade
 EXAMPLES = os.path.join(os.path.dirname(__file__), '..', '..', 'examples')
 # what each example must write into its output directory
 PROMISED = {
+    'binder_spray.py': ['binder_spray.csv', 'binder_spray.png'],
     'settling.py': ['settling.png', 'summary.txt'] + ['%s.%s' % (k, x) for k in ('stepper', 'dt_tv', 'dt_2.5tv', 'implicit')
                                                        for x in ('csv', 'png')],
 }
@@ -32,6 +33,16 @@ def test_example_runs_and_writes_its_files(script, tmp_path):
             assert path.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
     if script == 'settling.py':
         check_settling_story(proc.stdout, (out / 'summary.txt').read_text())
+    if script == 'binder_spray.py':
+        check_spray_story(proc.stdout, (out / 'binder_spray.csv').read_text())
+
+
+def check_spray_story(stdout, csv):
+    """All the binder sprayed is in films and bridges, and bridges formed from it."""
+    error = float(re.search(r'relative error of the total ([0-9.e+-]+)', stdout).group(1))
+    assert error < 1e-12
+    last = csv.splitlines()[-1].split(',')
+    assert float(last[1]) > 0 and float(last[3]) > 0 and int(last[5]) > 0
 
 
 def check_settling_story(stdout, summary):

@@ -10,9 +10,10 @@
 #include "viscbridge/engines/ViscBridgeTimeStepper.hpp"
 #include "viscbridge/engines/ViscBridgeGuard.hpp"
 #include "viscbridge/engines/ViscBridgeImplicitSolver.hpp"
+#include "viscbridge/engines/ViscBridgeLiquid.hpp"
 
 namespace yade {
 YADE_PLUGIN((ViscBridgeHeaderProbe)(ViscBridgePhys)(Ip2_FrictMat_FrictMat_ViscBridgePhys)(Law2_ScGeom_ViscBridgePhys_HertzViscous)
             (Ig2_Wall_Sphere_ViscBridgeScGeom)(Ig2_Facet_Sphere_ViscBridgeScGeom)
-            (ViscBridgeTimeStepper)(ViscBridgeImplicitSolver)(ViscBridgeGuard)(ViscBridgeState)(ViscBridgeContext));
+            (ViscBridgeTimeStepper)(ViscBridgeImplicitSolver)(ViscBridgeGuard)(ViscBridgeLiquid)(ViscBridgeState)(ViscBridgeContext));
 } // namespace yade

@@ -16,6 +16,8 @@ template <class... T> class AttributeRollback {
 public:
 	// Remember the current values as the last valid ones.
 	template <class Refs> void keep(const Refs& current) { lastValid = current; }
+	// Whether the attributes differ from the last valid values (an assignment is being checked).
+	template <class Refs> bool differs(const Refs& current) const { return lastValid != current; }
 	// Run `validate`; if it throws, put the last valid values back and rethrow, else keep the new ones.
 	template <class Refs, class Validate> void check(Refs current, Validate&& validate)
 	{

@@ -1,6 +1,8 @@
 #include "viscbridge/yade/Ip2_FrictMat_FrictMat_ViscBridgePhys.hpp"
 #include "viscbridge/core/models/contact/HertzMindlin.hpp"
 #include "viscbridge/core/pair/PairGeometry.hpp"
+#include "viscbridge/yade/ViscBridgeState.hpp"
+#include <core/Omega.hpp>
 #include <core/Scene.hpp>
 #include <pkg/common/Sphere.hpp>
 #include <pkg/dem/ScGeom.hpp>
@@ -18,6 +20,11 @@ namespace {
 		return s ? s->radius : 0.0;
 	}
 	Real sphereVolume(Real r) { return 4.0 / 3.0 * vb::pi * r * r * r; }
+	bool wettable(const Body& b)
+	{
+		const ViscBridgeState* s = ViscBridgeState::peek(b);
+		return !s || s->wettable;
+	}
 }
 
 Real& Ip2_FrictMat_FrictMat_ViscBridgePhys::numeric(std::size_t i)
@@ -37,16 +44,34 @@ void Ip2_FrictMat_FrictMat_ViscBridgePhys::validate()
 	s.tangential = vb::modelIndex<vb::TangentialSlot>(ip2Name, tangentialModel);
 	s.capillary  = vb::modelIndex<vb::CapillarySlot>(ip2Name, capillaryModel);
 	selection    = s;
+	vb::parseName(ip2Name, "liquidModel", liquidModel, vb::liquidModelNames, "liquid model");
 }
 
 void Ip2_FrictMat_FrictMat_ViscBridgePhys::postLoad(Ip2_FrictMat_FrictMat_ViscBridgePhys&)
 {
+	const bool changed = rollback.differs(checked());
 	rollback.check(checked(), [&] { validate(); });
+	if (changed) warnExistingKeepTheirs();
+}
+
+void Ip2_FrictMat_FrictMat_ViscBridgePhys::warnExistingKeepTheirs() const
+{
+	// A liquid property changed between runs applies to new interactions only: say so, once per change.
+	const auto current = Omega::instance().getScene();
+	if (!current || current.get() != usedIn) return;
+	long existing = 0;
+	for (const auto& I : *current->interactions)
+		if (I->isReal() && dynamic_cast<const ViscBridgePhys*>(I->phys.get())) ++existing;
+	if (existing)
+		LOG_WARN(ip2Name << ": the new values apply to interactions created from now on; the " << existing
+		                 << " existing ones keep the values they were created with (erase them, e.g. O.interactions.clear(), to rebuild every "
+		                    "interaction with the new values).");
 }
 
 void Ip2_FrictMat_FrictMat_ViscBridgePhys::go(const shared_ptr<Material>& m1, const shared_ptr<Material>& m2, const shared_ptr<Interaction>& interaction)
 {
 	if (interaction->phys) return;
+	usedIn = scene;
 	auto        phys = shared_ptr<ViscBridgePhys>(new ViscBridgePhys());
 	const auto  mat1 = YADE_CAST<FrictMat*>(m1.get());
 	const auto  mat2 = YADE_CAST<FrictMat*>(m2.get());
@@ -70,6 +95,7 @@ void Ip2_FrictMat_FrictMat_ViscBridgePhys::go(const shared_ptr<Material>& m1, co
 	vb::ModelSelection s = selection;
 	if (!(viscosity > 0)) s.normal = s.tangential = 0;
 	if (!(surfaceTension > 0)) s.capillary = 0;
+	if (!wettable(b1) || !wettable(b2)) s.normal = s.tangential = s.capillary = 0; // a dry body: a dry contact
 	static const std::size_t damped = vb::modelIndex<vb::DampingSlot>(ip2Name, vb::RestitutionContactDamping::name);
 	s.damping             = phys->betan > 0 ? damped : 0;
 	phys->normalModel     = vb::NormalModels::names[s.normal];
@@ -78,6 +104,7 @@ void Ip2_FrictMat_FrictMat_ViscBridgePhys::go(const shared_ptr<Material>& m1, co
 	phys->viscosity       = viscosity;
 	phys->surfaceTension  = surfaceTension;
 	phys->contactAngle    = contactAngle;
+	phys->liquidModel     = liquidModel;
 	if (bridgeVolume > 0) {
 		phys->bridgeVolume = bridgeVolume;
 	} else {

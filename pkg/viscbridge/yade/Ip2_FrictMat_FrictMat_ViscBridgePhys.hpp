@@ -4,6 +4,7 @@
 #pragma once
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include "viscbridge/core/models/Parameters.hpp"
+#include "viscbridge/core/liquid/FilmExchange.hpp"
 #include "viscbridge/yade/AttributeRollback.hpp"
 #include <core/Dispatching.hpp>
 #include <pkg/common/ElastMat.hpp>
@@ -12,13 +13,15 @@ namespace yade {
 
 class Ip2_FrictMat_FrictMat_ViscBridgePhys : public IPhysFunctor {
 	// Every checked attribute: a rejected assignment is undone.
-	AttributeRollback<Real, Real, Real, Real, Real, Real, Real, Real, Real, std::string, std::string, std::string> rollback;
+	AttributeRollback<Real, Real, Real, Real, Real, Real, Real, Real, Real, std::string, std::string, std::string, std::string> rollback;
 	auto checked()
 	{
 		return std::tie(viscosity, bridgeVolume, bridgeVolumeRel, contactAngle, sMin, sMinRel, formationDistance, en, surfaceTension, normalModel,
-		                tangentialModel, capillaryModel);
+		                tangentialModel, capillaryModel, liquidModel);
 	}
 	Real& numeric(std::size_t i); // the attribute of parameters::all[i]
+	const Scene* usedIn = nullptr; // the scene whose interactions this functor has built
+	void         warnExistingKeepTheirs() const;
 
 public:
 	viscbridge::ModelSelection selection; // parsed normalModel, tangentialModel, capillaryModel
@@ -38,8 +41,8 @@ public:
 		"report for such sides only enters the Hertz constants, exactly as in YADE's own Mindlin law). "
 		"Invalid values raise ValueError on assignment and leave the previous value in place.",
 		((Real,viscosity,viscbridge::parameters::viscosity.defaultValue,Attr::triggerPostLoad,"Liquid viscosity $\\mu$ [Pa·s], >= 0. 0 means no viscous force, at no cost."))
-		((Real,bridgeVolume,viscbridge::parameters::bridgeVolume.defaultValue,Attr::triggerPostLoad,"Bridge volume $V$ [m³], >= 0. 0 means: use :yref:`bridgeVolumeRel<Ip2_FrictMat_FrictMat_ViscBridgePhys.bridgeVolumeRel>`."))
-		((Real,bridgeVolumeRel,viscbridge::parameters::bridgeVolumeRel.defaultValue,Attr::triggerPostLoad,"Bridge volume as a fraction of the mean volume of the two particles (of the sphere, against a wall), in (0, 1]; used when bridgeVolume is 0."))
+		((Real,bridgeVolume,viscbridge::parameters::bridgeVolume.defaultValue,Attr::triggerPostLoad,"Bridge volume $V$ [m³], >= 0 (with liquidModel 'film': the largest volume a bridge takes from the films). 0 means: use :yref:`bridgeVolumeRel<Ip2_FrictMat_FrictMat_ViscBridgePhys.bridgeVolumeRel>`."))
+		((Real,bridgeVolumeRel,viscbridge::parameters::bridgeVolumeRel.defaultValue,Attr::triggerPostLoad,"Bridge volume as a fraction of the mean volume of the two particles (of the sphere, against a wall), in (0, 1]; used when bridgeVolume is 0 (with liquidModel 'film': the largest fraction a bridge takes from the films)."))
 		((Real,contactAngle,viscbridge::parameters::contactAngle.defaultValue,Attr::triggerPostLoad,"Contact angle $\\theta$ [rad], in [0, π/2]; enters the rupture distance $S_{rup}=(1+\\theta/2)V^{1/3}$ (Lian et al., P11) and the capillary force (P19, P20)."))
 		((Real,sMin,viscbridge::parameters::sMin.defaultValue,Attr::triggerPostLoad,"Minimum gap $S_{min}$ [m], >= 0: the viscous coefficients are evaluated at $\\max(S,S_{min})$, also in overlap (P6). 0 means: $S_{min}$ = sMinRel·$\\bar r$."))
 		((Real,sMinRel,viscbridge::parameters::sMinRel.defaultValue,Attr::triggerPostLoad,"$S_{min}/\\bar r$ when sMin is 0, in (0, 1]. It caps the force: at the same approach speed the force at contact is $\\propto 1/S_{min}$ and the stable explicit time step $\\propto S_{min}$. Note that LIGGGHTS clamps at minSeparationDistanceRatio × $\\bar r$ and documents a value near 1, i.e. $S_{min}\\approx\\bar r$, a force cap about 100× too low; here 1e-3 is a typical roughness-scale value."))
@@ -48,6 +51,7 @@ public:
 		((string,capillaryModel,viscbridge::CapillarySlot::defaultModel,Attr::triggerPostLoad,"Capillary force of the bridge, an attraction along the normal that acts from the bridge's formation to its rupture and is held at its contact value in overlap (physics.md §8): 'none' (default), 'willett' (Willett et al. 2000, closed form, P19: $F=2\\pi R\\gamma\\cos\\theta/(1+2.1s^++10s^{+2})$, $s^+=(S/2)\\sqrt{R/V}$) or 'rabinovich' (Rabinovich et al. 2005, fixed volume, P20); both with the Derjaguin radius $R=2\\bar r$ ($R=r$ for equal spheres, $2r$ against a wall). Needs surfaceTension > 0."))
 		((Real,surfaceTension,viscbridge::parameters::surfaceTension.defaultValue,Attr::triggerPostLoad,"Surface tension $\\gamma$ of the liquid [N/m], >= 0 (water: 0.072); 0 means no capillary force. Used by capillaryModel."))
 		((Real,formationDistance,viscbridge::parameters::formationDistance.defaultValue,Attr::triggerPostLoad,"A bridge forms when the gap falls below this distance [m], >= 0 (0: at contact). Needs interactions created before contact, within this distance: :yref:`viscbridge.engines()` sets the detection range of every geometry functor it adds (spheres and boxes through interactionDetectionFactor, walls and facets through :yref:`Ig2_Wall_Sphere_ViscBridgeScGeom` and :yref:`Ig2_Facet_Sphere_ViscBridgeScGeom`, which replace YADE's, whose interactions start at contact); with your own engine list, set them yourself."))
+		((string,liquidModel,viscbridge::liquidModelNames[0],Attr::triggerPostLoad,"Where a bridge's liquid comes from (physics.md §11): 'fixed' (default; every bridge has the volume bridgeVolume or bridgeVolumeRel, from nowhere) or 'film' (a bridge forms only where the particles carry liquid — :yref:`ViscBridgeState.film` — takes its volume from their films when it forms, at most bridgeVolume/bridgeVolumeRel, and gives it back when it ruptures; needs a :yref:`ViscBridgeLiquid` engine after the InteractionLoop, which :yref:`viscbridge.engines()` inserts). Walls and facets carry no film: a bridge to them takes its liquid from the particle alone. A body with :yref:`ViscBridgeState.wettable` False forms no bridge (either model). Changing it applies to interactions created afterwards."))
 		((Real,en,viscbridge::parameters::en.defaultValue,Attr::triggerPostLoad,"Coefficient of restitution of the dry Hertz–Mindlin contact, in (0, 1]; 1 = no contact damping (no cost). Damping ratio from Thornton et al. (2013), as YADE's Ip2_FrictMat_FrictMat_MindlinPhys.en (P2b)."))
 		,
 		/* ctor */ rollback.keep(checked()); validate();

@@ -2,6 +2,7 @@
 #include "viscbridge/distributed/Distributed.hpp"
 #include "viscbridge/core/pair/PairKernel.hpp"
 #include "viscbridge/yade/ViscBridgeContext.hpp"
+#include "viscbridge/yade/ViscBridgeState.hpp"
 #include <core/Omega.hpp>
 #include <core/Scene.hpp>
 #include <array>
@@ -61,6 +62,8 @@ namespace {
 		in.shearIncrement = geom.shearIncrement();
 		in.dt             = scene->dt;
 		if (in.S <= 0) ph.shearElastic = geom.rotate(ph.shearElastic); // into the current contact frame
+		if constexpr (Cm::hasBridge)
+			if (ph.constants.fromFilms && !ph.bridge && vb::kernel::formsAt(ph.constants, in.S)) in.liquid = law.filmsCanForm(id1, id2);
 
 		vb::PairForces f;
 		vb::PairEnergy e;
@@ -68,7 +71,7 @@ namespace {
 		const bool                  lives     = vb::evaluatePair<Cm, E, Imp>(ph.constants, ph, in, f, e);
 		if constexpr (Cm::hasBridge) // a formation or a rupture, for the engines that follow the bridges
 			if (ph.bridge != hadBridge)
-				law.context->publish({ ph.bridge ? BridgeEvent::Kind::formed : BridgeEvent::Kind::ruptured, id1, id2, ph.bridgeVolume, in.S });
+				law.context->publish({ ph.bridge ? BridgeEvent::Kind::formed : BridgeEvent::Kind::ruptured, id1, id2, ph.bridgeVolume, in.S, ph.constants.fromFilms });
 		if (!lives) return false;
 		if constexpr (Imp) ph.implicitBlockIter = scene->iter;
 		scene->forces.addForce(id1, f.force1);
@@ -136,7 +139,8 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::beginStep()
 				stepImplicit = false;
 				reportMissingSolver();
 			}
-			stepScene = scene;
+			stepLiquidEngine = ViscBridgeContext::hasEngine(scene, "ViscBridgeLiquid");
+			stepScene        = scene;
 			stepIter.store(scene->iter, std::memory_order_release);
 		}
 	}
@@ -149,6 +153,29 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::reportMissingSolver()
 	const std::string msg = "Law2_ScGeom_ViscBridgePhys_HertzViscous.integration='implicit' needs a ViscBridgeImplicitSolver engine between "
 	                        "InteractionLoop and NewtonIntegrator, and O.engines has none (viscbridge.engines(integration='implicit') inserts it).";
 	LOG_ERROR(msg << " This step used explicit viscous forces; the run stops.");
+	context->raiseAtNextStep(scene, msg);
+}
+
+bool Law2_ScGeom_ViscBridgePhys_HertzViscous::filmsCanForm(Body::id_t id1, Body::id_t id2)
+{
+	if (!stepLiquidEngine) {
+		reportMissingLiquidEngine();
+		return false;
+	}
+	Real liquid = 0;
+	for (const Body::id_t id : { id1, id2 })
+		if (const ViscBridgeState* s = ViscBridgeState::peek(*Body::byId(id, scene))) liquid += s->film;
+	return liquid > 0;
+}
+
+void Law2_ScGeom_ViscBridgePhys_HertzViscous::reportMissingLiquidEngine()
+{
+	const std::string msg = "Ip2_FrictMat_FrictMat_ViscBridgePhys.liquidModel='film' needs a ViscBridgeLiquid engine right after the "
+	                        "InteractionLoop (it takes the bridges' liquid from the films and gives it back), and O.engines has none "
+	                        "(viscbridge.engines(liquidModel='film') inserts it).";
+#ifdef YADE_OPENMP
+#pragma omp critical(viscbridge_law_step)
+#endif
 	context->raiseAtNextStep(scene, msg);
 }
 

@@ -20,8 +20,10 @@ class Law2_ScGeom_ViscBridgePhys_HertzViscous : public LawFunctor {
 	std::atomic<long>             stepIter { -1 };
 	const Scene*                  stepScene = nullptr;
 	bool                          stepImplicit = false; // integration is 'implicit' and the solver is there
+	bool                          stepLiquidEngine = false; // a ViscBridgeLiquid is in O.engines
 	void                          beginStep();
 	void                          reportMissingSolver();
+	void                          reportMissingLiquidEngine();
 
 public:
 	// The scene's context for this step: where the kernels publish bridge events and book the work
@@ -31,6 +33,9 @@ public:
 	std::array<int, viscbridge::energyKeyCount> energyIndex;
 	int integrationIndex = 0; // parsed `integration`
 	void addEnergy(Real value, viscbridge::EnergyKey key);
+	// Whether bodies id1 and id2 carry liquid for a bridge of liquidModel 'film' (physics.md L0); read
+	// only where the bridge would form (a rare path), so 'fixed' scenes never look at the films.
+	bool filmsCanForm(Body::id_t id1, Body::id_t id2);
 
 	bool go(shared_ptr<IGeom>& geom, shared_ptr<IPhys>& phys, Interaction* interaction) override;
 	void postLoad(Law2_ScGeom_ViscBridgePhys_HertzViscous&);

@@ -1,4 +1,5 @@
 #include "viscbridge/yade/ViscBridgePhys.hpp"
+#include "viscbridge/core/liquid/FilmExchange.hpp"
 
 namespace yade {
 
@@ -23,6 +24,7 @@ void ViscBridgePhys::buildConstants(const viscbridge::ModelSelection& s)
 {
 	selection              = s;
 	constants              = viscbridge::makePairConstants(s, { kno, kso, tangensOfFrictionAngle }, bridgeInputs(), formationDistance);
+	constants.fromFilms    = liquidModel == viscbridge::liquidModelNames[static_cast<int>(viscbridge::LiquidModel::film)];
 	kernel                 = viscbridge::comboIndex(s);
 	viscousStepCoefficient = constants.viscousStepCoefficient;
 	capillaryStiffness     = constants.capillaryStiffness;
@@ -32,6 +34,7 @@ void ViscBridgePhys::postLoad(ViscBridgePhys&)
 {
 	namespace vb      = viscbridge;
 	const char* owner = "ViscBridgePhys";
+	vb::parseName(owner, "liquidModel", liquidModel, vb::liquidModelNames, "liquid model");
 	vb::ModelSelection s;
 	s.normal     = vb::modelIndex<vb::NormalSlot>(owner, normalModel);
 	s.tangential = vb::modelIndex<vb::TangentialSlot>(owner, tangentialModel);

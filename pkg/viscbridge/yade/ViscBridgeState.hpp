@@ -32,7 +32,8 @@ public:
 		"ViscBridge converts a body's plain :yref:`State` into one when it first stores such a quantity; "
 		"you can also assign one yourself (``b.state = ViscBridgeState()`` before setting mass and position, "
 		"or ``ViscBridgeState.of(body)`` converts a body's state keeping all of it). Saved with the scene and moved with the body by yade.mpy.",
-		((Real,film,0,Attr::triggerPostLoad,"Volume of the liquid film on the particle [m³], >= 0: the liquid it can give to new bridges with :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys.liquidModel` = 'film'."))
+		((Real,film,0,Attr::triggerPostLoad,"Volume of the liquid film on the particle [m³], >= 0: the liquid it gives to new bridges and takes back from ruptured ones with :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys.liquidModel` = 'film' (physics.md §11; set it with viscbridge.liquid.set_film or add)."))
+		((bool,wettable,true,,"Whether a liquid bridge can form on this body (any liquid model). False makes a dry boundary or particle: its interactions created from then on are dry contacts (viscbridge.liquid.make_dry)."))
 		,
 		/* ctor */ createIndex(); rollback.keep(std::tie(film));
 		,

@@ -8,7 +8,7 @@ from yade import O, plot, utils
 from yade import pack
 import yade.wrapper as yw
 
-from .. import _checks, criteria
+from .. import _checks, criteria, liquid
 from ..engine_list import bridge_parameters, engines
 from .runner import Settling
 
@@ -18,7 +18,7 @@ __all__ = ['settling']
 def settling(n=300, radius=0.5e-3, sizeRatio=1.0, density=2500.0, young=1e7, poisson=0.3, friction=0.5,
              viscosity=1.0, dt=None, safety=None, seed=1, width=None, height=None, periodic=False,
              gravity=9.81, initialSpeed=0.0, integration='explicit', trackEnergy=True, guard=True,
-             cloudFraction=0.2, **effects):
+             cloudFraction=0.2, filmRel=0.0, **effects):
     """Build a settling scene in O (which is reset) and return a :class:`Settling` handle.
 
     n spheres of mean radius `radius` [m] (radii uniform in a range with max/min = sizeRatio, 1–5)
@@ -34,11 +34,16 @@ def settling(n=300, radius=0.5e-3, sizeRatio=1.0, density=2500.0, young=1e7, poi
 
     dt: a fixed time step [s], or None for ViscBridgeTimeStepper with `safety` (None: its default).
     initialSpeed: random initial velocities of this magnitude [m/s] (to start with motion).
+    filmRel: with liquidModel='film', every sphere's film as a fraction of its volume (0: dry; add
+        liquid later with :mod:`viscbridge.liquid`).
     seed: random seed of the positions (and velocities).
     """
     _check_settling_args(n, radius, sizeRatio, density, young, poisson, friction, dt, safety, seed, width, height,
                          periodic, gravity, initialSpeed, integration, trackEnergy, guard)
     _checks.in_range('settling', 'cloudFraction', cloudFraction, 0, 0.27, lo_open=True)
+    _checks.in_range('settling', 'filmRel', filmRel, 0, 1)
+    if filmRel > 0 and effects.get('liquidModel') != 'film':
+        raise ValueError("settling: filmRel=%r needs liquidModel='film' (with 'fixed' bridges the films are not used)" % (filmRel,))
     n, seed = int(n), int(seed)
     ip2_args, rest = bridge_parameters(viscosity=viscosity, **effects)
     if rest:
@@ -60,10 +65,12 @@ def settling(n=300, radius=0.5e-3, sizeRatio=1.0, density=2500.0, young=1e7, poi
     # with the stepper, start from the collision bound: it only lets dt grow gradually
     O.dt = 0.2 * criteria.rayleigh_time(r_min, density, young, poisson) if dt is None else dt
     O.trackEnergy = trackEnergy
+    if filmRel > 0:
+        liquid.set_film(ids, [filmRel * 4 / 3 * math.pi * O.bodies[i].shape.radius ** 3 for i in ids])
     params = dict(n=n, radius=radius, sizeRatio=sizeRatio, density=density, young=young, poisson=poisson,
                   friction=friction, dt=dt, safety=safety, seed=seed, width=width, height=height,
                   periodic=periodic, gravity=gravity, initialSpeed=initialSpeed, integration=integration,
-                  cloudFraction=cloudFraction, sMin=0.0, sMinRel=1e-3)
+                  cloudFraction=cloudFraction, filmRel=filmRel, sMin=0.0, sMinRel=1e-3)
     params.update(ip2_args)
     return Settling(params, walls, {i: O.bodies[i].state.pos[2] for i in ids})
 

@@ -7,7 +7,7 @@ import os
 from yade import O, plot
 import yade.wrapper as yw
 
-from .. import _checks, measures
+from .. import _checks, liquid, measures
 from ..measures import capillary_input, instability
 from .history import plot_history, write_history_csv
 
@@ -57,6 +57,9 @@ class Settling:
         if O.trackEnergy:
             row.update(('E_' + k, v) for k, v in O.energy.items())
             row['Etotal'] = O.energy.total()
+        if self.params.get('liquidModel') == 'film':
+            spread = liquid.distribution()
+            row.update(liquidFilms=liquid.in_films(), liquidBridges=liquid.in_bridges(), liquidCoV=spread.cov)
         plot.addData(**row)
 
     def run(self, duration=None, steps=None, points=200, stop_when_unstable=True):

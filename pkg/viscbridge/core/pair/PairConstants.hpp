@@ -40,6 +40,7 @@ struct PairConstants {
 	double               stiffestNormal = 0;
 	TangentialResistance stiffestTangential;
 	double               armGapFraction = 0; // of the tangential model: its arms reach r + fraction·S
+	bool                 fromFilms      = false; // the bridge takes its volume from the films (physics.md L0)
 };
 
 namespace detail {

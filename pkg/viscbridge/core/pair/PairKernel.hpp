@@ -36,6 +36,9 @@ struct PairInput {
 	Vec3           contactRelVel;
 	Vec3           shearIncrement;
 	double         dt;
+	// Whether there is liquid for a bridge to form (a pair that takes it from the particles' films
+	// asks them, physics.md L0; a fixed-volume pair always has it).
+	bool liquid = true;
 };
 
 // What the step puts on the two bodies.
@@ -66,13 +69,17 @@ inline Vec3 wallAnchor(const BodyKinematics& sphere, const Vec3& towardsWall, do
 
 namespace kernel {
 
-	// Bridge life (physics.md P11): forms at contact or within formationDistance (never beyond its
-	// own rupture distance), ruptures beyond S_rup, then nothing until the next formation.
-	template <class R> bool bridgeLives(const PairConstants& k, R& r, double S)
+	// Where a bridge forms (physics.md P11): at contact or within formationDistance, never beyond its
+	// own rupture distance.
+	inline bool formsAt(const PairConstants& k, double S) { return S <= 0 || (S <= k.formationDistance && S <= k.sRup); }
+
+	// Bridge life (P11): forms where formsAt says and there is liquid, ruptures beyond S_rup, then
+	// nothing until the next formation.
+	template <class R> bool bridgeLives(const PairConstants& k, R& r, double S, bool liquid)
 	{
 		if (r.bridge) {
 			if (S > k.sRup) r.bridge = false;
-		} else if (S <= 0 || (S <= k.formationDistance && S <= k.sRup)) {
+		} else if (formsAt(k, S) && liquid) {
 			r.bridge = true;
 		}
 		return r.bridge;
@@ -262,7 +269,7 @@ template <class Cm, bool E, bool Imp, class R> bool evaluatePair(const PairConst
 	const bool contact = in.S <= 0;
 	r.separation       = in.S;
 	if constexpr (Cm::hasBridge) {
-		if (!kernel::bridgeLives(k, r, in.S)) {
+		if (!kernel::bridgeLives(k, r, in.S, in.liquid)) {
 			kernel::forgetBridge(r);
 			if (!contact) return false;
 		}

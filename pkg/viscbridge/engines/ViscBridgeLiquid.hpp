@@ -1,0 +1,53 @@
+// ViscBridgeLiquid: the liquid of a scene with liquidModel 'film' (physics.md §11).  After the
+// interaction loop it reads the step's bridge events (ViscBridgeContext) and moves liquid between
+// the particles' films (ViscBridgeState.film) and the bridges (ViscBridgePhys.bridgeVolume): a new
+// bridge takes its volume from the films (L1, L2), a ruptured one gives it back (L3).  Between the
+// two, the total liquid does not change.
+#pragma once
+#include "viscbridge/core/liquid/FilmExchange.hpp"
+#include "viscbridge/yade/AttributeRollback.hpp"
+#include "viscbridge/yade/BridgeEvent.hpp"
+#include <core/GlobalEngine.hpp>
+#include <map>
+
+namespace yade {
+
+class ViscBridgePhys;
+
+class ViscBridgeLiquid : public GlobalEngine {
+	AttributeRollback<std::string> rollback;
+	viscbridge::RuptureSplit       split = viscbridge::RuptureSplit::half;
+
+	void formBridges(const std::vector<BridgeEvent>& events);
+	void returnLiquid(const std::vector<BridgeEvent>& events);
+	void giveBridgeVolume(ViscBridgePhys& ph, Real volume); // and the constants that follow from it (L4)
+	Real filmOf(Body::id_t id) const;                      // 0 for a body without film or gone
+	void addToFilm(Body::id_t id, Real volume);
+
+public:
+	void action() override;
+	void postLoad(ViscBridgeLiquid&);
+	// clang-format off
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR(ViscBridgeLiquid, GlobalEngine,
+		"Conserves the liquid of the bridges with :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys.liquidModel` = 'film' "
+		"(physics.md §11). Put it right after the InteractionLoop (:yref:`viscbridge.engines()` does). Each step it reads the bridges that "
+		"formed and ruptured in the interaction loop (:yref:`ViscBridgeContext`, in an order independent of the number of threads): "
+		"a new bridge takes its volume from the films of its two particles (:yref:`ViscBridgeState.film`) — each particle gives "
+		"$F/n$ to each of its $n$ bridges formed in the step, the bridge takes at most bridgeVolume/bridgeVolumeRel of the Ip2 and "
+		"the excess stays in the films (L1, L2, after YADE's LiqControl) — and its viscous, capillary and rupture constants follow "
+		"its volume (L4); a ruptured bridge gives its volume back to the films (L3). Walls and facets carry no film. "
+		"In the step a bridge forms, its forces use the largest volume it may take (its volume is known once the step's "
+		"formations are counted). The liquid of a bridge whose bodies are both erased is counted in lostVolume.",
+		((string,ruptureSplit,viscbridge::ruptureSplitNames[0],Attr::triggerPostLoad,"How a ruptured bridge's volume returns to the films (L3): 'half' (half to each particle; all of it to the particle of a wall bridge) or 'radius' (in proportion to the particles' surfaces, $r_i^2/(r_1^2+r_2^2)$)."))
+		((long,formed,0,Attr::readonly,"Bridges that took liquid from the films since the engine was created."))
+		((long,ruptured,0,Attr::readonly,"Ruptured bridges whose liquid returned to the films."))
+		((Real,lostVolume,0,Attr::readonly,"Liquid of ruptured bridges whose particles were both erased [m³] (gone from the scene)."))
+		,
+		/* ctor */ rollback.keep(std::tie(ruptureSplit));
+	);
+	// clang-format on
+	DECLARE_LOGGER;
+};
+REGISTER_SERIALIZABLE(ViscBridgeLiquid);
+
+} // namespace yade

@@ -1,0 +1,151 @@
+"""Agglomerates: the connected components of the graph of liquid bridges between dynamic spheres.
+
+Every dynamic sphere belongs to exactly one agglomerate (a lone sphere is one of size 1; a clump of
+spheres counts as one particle); walls, facets and fixed bodies are not members and do not join two
+agglomerates.  What granulation studies
+report is computed from them: the size distribution, the largest agglomerate, the mean coordination
+number (bridges to other spheres per sphere), mass fractions and, with conserved liquid
+(liquidModel='film'), the liquid per agglomerate and the CoV of the liquid per particle.
+
+:func:`components` is the pure part (numpy, scipy's connected components: linear in the number of
+bridges); :func:`agglomerates` reads it off O.
+"""
+import math
+
+import numpy
+
+__all__ = ['Agglomerates', 'components', 'agglomerates', 'edges_of_scene']
+
+
+class Agglomerates:
+    """The agglomerates of a scene (see the module).  Attributes:
+
+    ``ids`` the member spheres' body ids; ``labels`` their agglomerate (0 = largest; ties by the
+    smallest body id), ``sizes`` spheres per agglomerate, descending; ``largest`` ``sizes[0]``;
+    ``count`` the number of agglomerates; ``coordination`` bridges between members per member
+    (each counted at both ends); ``masses`` and ``mass_fractions`` per agglomerate; ``liquid`` per
+    agglomerate [m³] (films + bridges, each bridge's liquid in the agglomerate it joins) and
+    ``liquid_cov`` — both None without per-particle liquid.
+    """
+
+    def __init__(self, ids, labels, edges, masses, liquid=None):
+        self.ids, self.labels = ids, labels
+        self.count = int(labels.max()) + 1 if len(labels) else 0
+        self.sizes = numpy.bincount(labels, minlength=self.count)
+        self.largest = int(self.sizes[0]) if self.count else 0
+        self.coordination = 2.0 * len(edges) / len(ids) if len(ids) else math.nan
+        self.masses = numpy.bincount(labels, weights=masses, minlength=self.count)
+        self.mass_fractions = self.masses / self.masses.sum() if self.count else self.masses
+        self.liquid = self.liquid_cov = None
+        if liquid is not None:
+            per_particle = liquid
+            self.liquid = numpy.bincount(labels, weights=per_particle, minlength=self.count)
+            mean = per_particle.mean() if len(per_particle) else math.nan
+            self.liquid_cov = float(per_particle.std() / mean) if mean > 0 else math.nan
+
+    def label_of(self, body_id):
+        """The agglomerate of body `body_id` (0 = largest); KeyError for a body that is not a member."""
+        where = numpy.searchsorted(self.ids, body_id)
+        if where >= len(self.ids) or self.ids[where] != body_id:
+            raise KeyError('body %r is not a member of any agglomerate (only dynamic spheres are)' % (body_id,))
+        return int(self.labels[where])
+
+    def size_distribution(self, bins=None, by='number'):
+        """Histogram of agglomerate sizes (spheres per agglomerate): (counts, edges).  `bins` as numpy's
+        (default: 1, 2, 3–4, 5–8, ... doubling); by='number' counts agglomerates, by='mass' sums their
+        mass fractions."""
+        if by not in ('number', 'mass'):
+            raise ValueError("size_distribution: by=%r; allowed: 'number', 'mass'" % (by,))
+        if bins is None:
+            top = max(1, self.largest)
+            bins = [1] + [2 ** k + 0.5 for k in range(0, int(math.ceil(math.log2(top))) + 1)]
+            bins[-1] = max(bins[-1], top + 0.5)
+        weights = self.mass_fractions if by == 'mass' else None
+        return numpy.histogram(self.sizes, bins=bins, weights=weights)
+
+    def __repr__(self):
+        return 'Agglomerates(%d spheres in %d agglomerates, largest %d, coordination %.2f)' % (
+            len(self.ids), self.count, self.largest, self.coordination)
+
+
+def components(ids, edges, masses, liquid=None):
+    """Agglomerates of the spheres `ids` (sorted body ids) joined by `edges` (pairs of body ids, both
+    members); `masses` per member; `liquid` optional (per-particle liquid, per-edge liquid)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    ids = numpy.asarray(ids, dtype=numpy.int64)
+    edges = numpy.asarray(edges, dtype=numpy.int64).reshape(-1, 2)
+    n = len(ids)
+    a, b = numpy.searchsorted(ids, edges[:, 0]), numpy.searchsorted(ids, edges[:, 1])
+    graph = coo_matrix((numpy.ones(len(edges)), (a, b)), shape=(n, n))
+    _, raw = connected_components(graph, directed=False)
+    # relabel: 0 = largest, ties by the smallest member id (ids are sorted: first index = smallest id)
+    sizes = numpy.bincount(raw)
+    first = numpy.full(len(sizes), n)
+    numpy.minimum.at(first, raw, numpy.arange(n))
+    order = numpy.lexsort((first, -sizes))
+    rank = numpy.empty_like(order)
+    rank[order] = numpy.arange(len(order))
+    labels = rank[raw]
+    liquid = None if liquid is None else numpy.asarray(liquid, dtype=float)
+    return Agglomerates(ids, labels, edges, numpy.asarray(masses, dtype=float), liquid)
+
+
+def _node(body):
+    """The member a body stands for: a dynamic sphere itself, a clump's sphere its clump (a clump
+    is one particle); None for anything else."""
+    import yade.wrapper as yw
+    if body is None or not isinstance(body.shape, yw.Sphere):
+        return None
+    if body.isClumpMember:
+        return body.clumpId
+    return body.id if body.dynamic else None
+
+
+def edges_of_scene(min_force=0.0, min_volume=0.0):
+    """(member ids, edges, masses, per-member liquid or None) read off O: members are the dynamic
+    spheres and the clumps of spheres, edges the liquid bridges between two members carrying at
+    least `min_force` [N] (the magnitude of the interaction's total force) and holding at least
+    `min_volume` [m³]."""
+    from yade import O
+    import yade.wrapper as yw
+    node = {b.id: _node(b) for b in O.bodies if b is not None}
+    members = sorted({m for m in node.values() if m is not None})
+    index = {m: k for k, m in enumerate(members)}
+    per_member = numpy.zeros(len(members))
+    with_liquid = False
+    for b in O.bodies:
+        if b is not None and node.get(b.id) is not None and hasattr(b.state, 'film'):
+            per_member[index[node[b.id]]] += b.state.film
+            with_liquid = True
+    edges = []
+    for I in O.interactions:
+        if not (I.isReal and isinstance(I.phys, yw.ViscBridgePhys) and I.phys.bridge):
+            continue
+        ends = [node.get(i) for i in (I.id1, I.id2) if node.get(i) is not None]
+        for m in ends:  # a bridge's liquid is its particles' (all of it to the particle of a wall bridge)
+            per_member[index[m]] += I.phys.bridgeVolume / len(ends)
+        if len(ends) == 2 and ends[0] != ends[1] and I.phys.bridgeVolume >= min_volume and (
+                min_force <= 0 or (I.phys.normalForce + I.phys.shearForce).norm() >= min_force):
+            edges.append(tuple(ends))
+    masses = [O.bodies[m].state.mass for m in members]
+    return members, edges, masses, per_member if with_liquid else None
+
+
+def agglomerates(scene=None, min_force=0.0, min_volume=0.0):
+    """The :class:`Agglomerates` of O — or of the saved scene `scene` (a file name, loaded into O with
+    O.load).  An edge is a liquid bridge between two dynamic spheres; with `min_force` [N] only
+    bridges that carry at least that force (a bridge that carries no load in a dense flow does not
+    make a granule), with `min_volume` [m³] only bridges that hold at least that liquid."""
+    from .. import _checks
+    f = 'agglomerates'
+    min_force = _checks.non_negative(f, 'min_force', min_force, ' [N]')
+    min_volume = _checks.non_negative(f, 'min_volume', min_volume, ' [m³]')
+    if scene is not None:
+        from yade import O
+        import os
+        if not isinstance(scene, str) or not os.path.isfile(scene):
+            _checks.reject(f, 'scene', scene, 'the file name of a saved scene (O.save)')
+        O.load(scene)
+    members, edges, masses, per_particle = edges_of_scene(min_force, min_volume)
+    return components(members, edges, masses, per_particle)
