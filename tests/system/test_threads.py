@@ -91,3 +91,47 @@ def test_bridge_events_come_in_the_same_order_on_1_and_2_threads():
     for r in (one, two):
         assert r['mismatches'] == 0 and r['outOfOrder'] == 0
     assert one['digest'] == two['digest']
+
+
+FILM_SCRIPT = """
+import json, math, os
+from yade import O, utils
+import yade.wrapper as yw
+import viscbridge, viscbridge.liquid as liquid
+R = 0.5e-3
+mat = O.materials.append(yw.FrictMat(young=1e7, poisson=0.3, frictionAngle=0.5, density=2500))
+# 40 rows of five kinematic spheres (their motion is prescribed, so the run is the same on any
+# number of threads and only the liquid can differ): the outer four close in on the middle one at
+# speeds that differ from row to row, so many bodies get two bridges in one step
+ids = []
+for row in range(40):
+    y = 10 * R * row
+    for k in range(5):
+        b = utils.sphere(((2.3 * R) * (k - 2), y, 0), R, material=mat)
+        b.state.blockedDOFs = 'xyzXYZ'
+        b.state.vel = (-(0.03 + 0.001 * row) * (k - 2), 0, 0)
+        ids.append(O.bodies.append(b))
+O.engines = viscbridge.engines(gravity=(0, 0, 0), timeStepper=False, viscosity=0.01, liquidModel='film', formationDistance=0.05 * R)
+O.dt = 1e-6
+liquid.set_film(ids, [(1 + (7 * i) % 5) * 1e-13 for i in ids])
+total = liquid.total()
+O.run(6000, True)
+for b in O.bodies:
+    b.state.vel = -b.state.vel
+O.run(12000, True)
+engine = next(e for e in O.engines if isinstance(e, yw.ViscBridgeLiquid))
+json.dump({'threads': O.numThreads, 'films': [liquid.film(i) for i in ids], 'formed': engine.formed, 'ruptured': engine.ruptured,
+           'total': [total, liquid.total()]}, open(os.environ['VISCBRIDGE_RESULT'], 'w'))
+"""
+
+
+def test_liquid_moves_identically_on_1_and_2_threads():
+    """The offer rule L1 reads the step's formations in one order (physics.md §11): the films after
+    formations and ruptures are bit-identical on 1 and 2 threads, and the total is conserved."""
+    _, one = run_yade(FILM_SCRIPT, threads=1)
+    _, two = run_yade(FILM_SCRIPT, threads=2)
+    assert (one['threads'], two['threads']) == (1, 2)
+    assert one['formed'] >= 160 and one['ruptured'] == one['formed']
+    assert one['films'] == two['films'] and one['formed'] == two['formed']
+    for r in (one, two):
+        assert abs(r['total'][1] - r['total'][0]) <= 1e-12 * r['total'][0]
