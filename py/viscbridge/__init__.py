@@ -8,11 +8,11 @@ own; this package adds the Python tools around them.
 import os
 import sys
 
-__all__ = ['plugin_path', 'yade_version', 'engines']
+__all__ = ['plugin_path', 'yade_version', 'engines', 'agglomerates']
 
 # Modules that need a running YADE are imported on first use, so that the planning tools
 # (viscbridge.criteria) work in plain Python.
-_LAZY = {'engines': ('engine_list', 'engines')}
+_LAZY = {'engines': ('engine_list', 'engines'), 'agglomerates': ('analysis.agglomerates', 'agglomerates')}
 
 
 def __getattr__(name):

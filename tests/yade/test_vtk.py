@@ -85,3 +85,19 @@ def test_recorder_arguments():
         vtk.bridge_recorder('x-')
     with pytest.raises(ValueError, match='iterPeriod'):
         vtk.bridge_recorder('x-', iterPeriod=0)
+
+
+def test_particles_carry_their_liquid_and_agglomerate(tmp_path):
+    import viscbridge.liquid as liquid
+    wet_pair_and_wall()
+    O.engines = viscbridge.engines(viscosity=1.0, gravity=(0, 0, -9.81), liquidModel='film')
+    O.dt = 1e-9
+    liquid.set_film([1, 2], [1e-12, 3e-12])
+    O.run(20, True)
+    path = str(tmp_path / 'p.vtp')
+    assert vtk.write_particles(path) == 2
+    piece, a = arrays(path)
+    assert a['id'] == [1, 2] and a['radius'] == pytest.approx([R, R])
+    d = liquid.distribution()
+    assert a['liquid'] == pytest.approx(list(d.liquid)) and sum(a['liquid']) == pytest.approx(liquid.total(), rel=1e-12)
+    assert a['agglomerate'] == [0, 0]  # bridged to each other; the wall joins nothing

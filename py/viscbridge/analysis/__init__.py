@@ -5,5 +5,6 @@ One module per analysis (``analysis/agglomerates.py``, ...), built on :mod:`visc
 (what is read off a scene: energies, bridges, their end points) and, like it, importing YADE only
 inside the functions that read ``O``, so that the pure parts can be tested without YADE.  A settling
 run logs an analysis by adding it to ``Settling.record`` (:mod:`viscbridge.scenes.runner`).
-There is no analysis yet.
+Analyses: :mod:`.agglomerates` (``viscbridge.agglomerates()``: the connected components of the
+bridge graph, their sizes, coordination, mass and liquid).
 """

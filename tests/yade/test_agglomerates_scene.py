@@ -1,0 +1,56 @@
+"""viscbridge.analysis.agglomerates on scenes: members are the dynamic spheres (a clump counts as one),
+edges the liquid bridges between them; walls and fixed bodies join nothing."""
+import pytest
+from yade import O, utils
+import yade.wrapper as yw
+
+import viscbridge
+from viscbridge.analysis.agglomerates import agglomerates
+from wetpairs import R, material
+
+
+def chain_on_wall(n=4, gap=0.02):
+    """n spheres in a column on a wall, each one `gap`·R above the next, and two lone spheres far
+    away on the same wall: bridges within formationDistance."""
+    mat = material()
+    O.bodies.append(utils.wall(0, axis=2, material=mat))
+    column = [O.bodies.append(utils.sphere((0, 0, R * (1 + gap) + k * R * (2 + gap)), R, material=mat)) for k in range(n)]
+    lone = [O.bodies.append(utils.sphere((x, 0, R * (1 + gap)), R, material=mat)) for x in (10 * R, 20 * R)]
+    O.engines = viscbridge.engines(gravity=(0, 0, 0), viscosity=1.0, formationDistance=2 * gap * R, timeStepper=False)
+    O.dt = 1e-8
+    O.run(2, True)
+    return column, lone
+
+
+def test_a_column_on_a_wall_is_one_agglomerate_the_wall_joins_nothing():
+    column, lone = chain_on_wall()
+    bridges = [(i.id1, i.id2) for i in O.interactions if i.isReal and i.phys.bridge]
+    assert len(bridges) == 3 + 1 + 2  # the column's 3, its foot and the two lone spheres on the wall
+    a = agglomerates()
+    assert list(a.sizes) == [4, 1, 1] and a.largest == 4
+    assert {a.label_of(i) for i in column} == {0} and sorted(a.label_of(i) for i in lone) == [1, 2]
+    assert a.coordination == pytest.approx(2 * 3 / 6)
+    with pytest.raises(KeyError):
+        a.label_of(0)  # the wall
+
+
+def test_a_force_threshold_cuts_bridges_that_carry_nothing():
+    chain_on_wall()
+    assert list(agglomerates(min_force=1e30).sizes) == [1] * 6
+
+
+def test_a_saved_scene_gives_the_same_agglomerates(tmp_path):
+    chain_on_wall()
+    before = agglomerates()
+    path = str(tmp_path / 'scene.yade.gz')
+    O.save(path)
+    O.reset()
+    after = agglomerates(path)
+    assert list(after.sizes) == list(before.sizes) and list(after.labels) == list(before.labels)
+
+
+def test_bad_arguments_name_themselves():
+    with pytest.raises(ValueError, match='min_force'):
+        agglomerates(min_force=-1)
+    with pytest.raises(ValueError, match='scene'):
+        agglomerates('no/such/file.yade')
