@@ -62,7 +62,7 @@ def _detection_range(formationDistance, minRadius):
 
 
 def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, safety=None, guard=True,
-            minRadius=None, label_prefix='', ruptureSplit='half', **effects):
+            minRadius=None, label_prefix='', ruptureSplit='half', kinematic=(), **effects):
     """Return ``O.engines`` for a wet scene.
 
     Keyword arguments of :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys` select the effects and the
@@ -84,6 +84,8 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
         (default: taken from O.bodies).
     label_prefix: prefix of the engines' labels ('collider', 'viscBridgeIp2', 'viscBridgeLaw',
         'newton', 'timeStepper', 'implicitSolver', 'guard', 'liquid').
+    kinematic: engines that move boundaries (YADE's RotationEngine, TranslationEngine, ...), placed
+        where they belong: right before NewtonIntegrator, which then moves the bodies they drive.
     ruptureSplit: with liquidModel='film', how a ruptured bridge's liquid returns to the films:
         'half' or 'radius' (ViscBridgeLiquid.ruptureSplit).
     """
@@ -105,6 +107,10 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
         out.append(yw.ViscBridgeTimeStepper(label=label_prefix + 'timeStepper', **kw))
     if integration == 'implicit' and hasattr(yw, 'ViscBridgeImplicitSolver'):
         out.append(yw.ViscBridgeImplicitSolver(label=label_prefix + 'implicitSolver'))
+    kinematic = list(kinematic)
+    if not all(isinstance(e, yw.Engine) for e in kinematic):
+        raise ValueError('engines(kinematic=%r): allowed: a list of YADE engines (e.g. RotationEngine)' % (kinematic,))
+    out += kinematic
     out.append(yw.NewtonIntegrator(gravity=gravity, damping=0.0, label=label_prefix + 'newton'))
     return out
 
@@ -129,7 +135,7 @@ def _checked_engine_args(gravity, integration, timeStepper, safety, guard, label
     ip2_args, rest = bridge_parameters(**effects)
     if rest:
         raise ValueError('engines(): unknown parameter(s) %s; allowed: %s, gravity, integration, '
-                         'timeStepper, safety, guard, minRadius, label_prefix, ruptureSplit'
+                         'timeStepper, safety, guard, minRadius, label_prefix, ruptureSplit, kinematic'
                          % (', '.join(sorted(rest)), ', '.join(sorted(ip2_defaults()))))
     if integration == 'implicit' and ip2_args.get('tangentialModel') == 'washino':
         raise ValueError("engines(integration='implicit', tangentialModel='washino'): 'washino' is not dissipative "

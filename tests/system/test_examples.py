@@ -12,6 +12,7 @@ EXAMPLES = os.path.join(os.path.dirname(__file__), '..', '..', 'examples')
 # what each example must write into its output directory
 PROMISED = {
     'binder_spray.py': ['binder_spray.csv', 'binder_spray.png'],
+    'drum_granulation.py': ['agglomerates.csv', 'agglomerates.png', 'vtk/drum-bridges.pvd', 'vtk/drum-particles.pvd'],
     'settling.py': ['settling.png', 'summary.txt'] + ['%s.%s' % (k, x) for k in ('stepper', 'dt_tv', 'dt_2.5tv', 'implicit')
                                                        for x in ('csv', 'png')],
 }
@@ -33,6 +34,10 @@ def test_example_runs_and_writes_its_files(script, tmp_path):
             assert path.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n'
     if script == 'settling.py':
         check_settling_story(proc.stdout, (out / 'summary.txt').read_text())
+    if script == 'drum_granulation.py':
+        rows = (out / 'agglomerates.csv').read_text().splitlines()
+        first, last = rows[1].split(','), rows[-1].split(',')
+        assert int(first[3]) == 150 and int(last[3]) < 150  # agglomerates formed
     if script == 'binder_spray.py':
         check_spray_story(proc.stdout, (out / 'binder_spray.csv').read_text())
 

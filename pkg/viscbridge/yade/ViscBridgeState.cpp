@@ -1,5 +1,6 @@
 #include "viscbridge/yade/ViscBridgeState.hpp"
 #include "viscbridge/core/util/Validation.hpp"
+#include <lib/pyutil/gil.hpp>
 
 namespace yade {
 
@@ -23,7 +24,12 @@ ViscBridgeState& ViscBridgeState::of(Body& body)
 {
 	if (auto* s = dynamic_cast<ViscBridgeState*>(body.state.get())) return *s;
 	auto converted = shared_ptr<ViscBridgeState>(new ViscBridgeState(*body.state));
-	body.state     = converted;
+	{
+		// The old State may be owned by a Python object (utils.sphere made it): dropping it then
+		// releases a Python reference, which needs the GIL also in the simulation's thread.
+		gilLock lock;
+		body.state = converted;
+	}
 	return *converted;
 }
 

@@ -20,7 +20,7 @@ public:
 	// Converting a State: every attribute of State copied (a State has no usable copy constructor).
 	explicit ViscBridgeState(const State& source);
 	// The body's ViscBridgeState, converting its State in place when it is a plain one.  Not for the
-	// interaction loop (it replaces body.state).
+	// interaction loop (it replaces body.state); from an engine it takes the GIL for the replacement.
 	static ViscBridgeState& of(Body& body);
 	// The body's ViscBridgeState, or nullptr while it has a plain State (any thread).
 	static const ViscBridgeState* peek(const Body& body);

@@ -1,4 +1,5 @@
-"""Ready-made scenes: particles settling under gravity through viscous liquid bridges.
+"""Ready-made scenes: particles settling under gravity through viscous liquid bridges
+(:func:`settling`), and a wet granulation drum (:func:`drum`, :mod:`.drum`).
 
     import viscbridge.scenes as scenes
     s = scenes.settling(n=300, viscosity=1.0)      # builds the scene in O
@@ -22,5 +23,6 @@ from .history import log_limits, plot_history, write_history_csv  # noqa: F401
 # _log is the hook of the PyRunner Settling.run adds, 'import viscbridge.scenes; viscbridge.scenes._log()':
 # scenes saved while a run was logging hold that command, so the name stays here.
 from .runner import _ACTIVE, _LOG_COMMAND, Settling, _log  # noqa: F401
+from .drum import Drum, drum
 
-__all__ = ['settling', 'Settling', 'instability', 'capillary_input']
+__all__ = ['settling', 'Settling', 'drum', 'Drum', 'instability', 'capillary_input']

@@ -1,0 +1,158 @@
+"""A wet granulation drum (:func:`drum`): a horizontal cylinder of facets turned by YADE's
+RotationEngine, partly filled with spheres, some of them wetted with a viscous binder.
+
+The regime is set by four numbers (docs/drum.md): the Froude number Fr = ω²R_drum/g (rolling and
+cascading below ~0.1, cataracting above, centrifuging at 1), the fraction of particles that carry
+binder and how much (`wetFraction`, `filmRel`), whether the drum wall wets (`wetWalls`), and the
+viscous Stokes number of a collision St = 2ρrv/(9μ).  Defaults: dry walls, 15 % of the spheres
+wetted with 2 % of their volume, Fr = 0.05 — the bed cascades, agglomerates grow where wet particles
+meet and break where the flow shears them apart.  A wetted drum wall at these viscosities carries
+the whole bed round as one rigid lump (every bridge to the wall holds a particle for seconds).
+"""
+import math
+
+from yade import O, pack, plot, utils
+from yade import Quaternion
+import yade.wrapper as yw
+from yade import geom
+
+from .. import _checks, liquid
+from ..engine_list import bridge_parameters, engines
+
+__all__ = ['drum', 'Drum']
+
+G = 9.81
+
+
+class Drum:
+    """A drum scene living in O (see :func:`drum`): ``params``, ``omega`` [rad/s], ``spheres`` and
+    ``facets`` (body ids), ``rotation`` (its RotationEngine)."""
+
+    def __init__(self, params, omega, spheres, facets, rotation):
+        self.params, self.omega, self.spheres, self.facets, self.rotation = params, omega, spheres, facets, rotation
+
+    @property
+    def period(self):
+        """Time of one revolution [s]."""
+        return 2 * math.pi / self.omega
+
+    def revolutions(self):
+        """Revolutions turned so far."""
+        return O.time / self.period
+
+    def run(self, revolutions=None, duration=None):
+        """Turn the drum by `revolutions` (or for `duration` [s] of simulated time); blocks."""
+        if (revolutions is None) == (duration is None):
+            raise ValueError('Drum.run: give exactly one of revolutions=... or duration=... [s]')
+        if revolutions is not None:
+            duration = _checks.positive('Drum.run', 'revolutions', revolutions) * self.period
+        else:
+            duration = _checks.positive('Drum.run', 'duration', duration, ' [s]')
+        O.stopAtTime = O.time + duration
+        try:
+            O.run(-1, True)
+        finally:
+            O.stopAtTime = 0
+
+    def describe(self):
+        p = self.params
+        return '%d spheres (r=%.3g m), drum R=%.3g m, Fr=%.3g (%.1f rpm), μ=%.3g Pa·s, %s liquid, %s walls, %s' % (
+            len(self.spheres), p['radius'], p['drumRadius'], p['froude'], p['rpm'], p['viscosity'], p['liquidModel'],
+            'wet' if p['wetWalls'] else 'dry', p['integration'])
+
+
+def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.05, rpm=None, viscosity=10.0,
+         liquidModel='film', wetFraction=0.15, filmRel=0.02, wetWalls=False, integration='implicit',
+         density=2500.0, young=1e7, poisson=0.3, friction=0.5, wallFriction=0.8, segments=32, seed=1, **effects):
+    """Build a drum in O (which is reset) and return its :class:`Drum` handle.
+
+    Spheres of radius `radius` [m] (up to 10 % smaller) in a drum of radius `drumRadius` (default 20 r) and
+    length `length` (default 10 r; flat dry end walls), filled to `fill` of its volume by a bed at
+    solid fraction 0.6 (or `n` spheres), dropped into it from a loose cloud.  The drum (`segments`
+    segments around, two triangular facets each; friction angle `wallFriction` [rad]) turns about the y axis at the Froude number
+    `froude` = ω²R/g or at `rpm`.  The liquid: `viscosity` [Pa·s] with `liquidModel` 'film' (a
+    fraction `wetFraction` of the spheres, chosen at random, carries a film of `filmRel` of its
+    volume; bridges take it from them, :mod:`viscbridge.liquid`) or 'fixed' (every contact wet);
+    `wetWalls` False makes the drum wall dry (no bridge).  Other Ip2 parameters (bridgeVolumeRel,
+    normalModel, ...) pass through.  `integration`: 'implicit' (default: at 1–1000 Pa·s the
+    explicit viscous limit would be 10²–10⁵ times the collision step) or 'explicit'.
+    """
+    f = 'drum'
+    radius = _checks.positive(f, 'radius', radius, ' [m]')
+    drumRadius = _checks.positive(f, 'drumRadius', 20 * radius if drumRadius is None else drumRadius, ' [m]')
+    length = _checks.positive(f, 'length', 10 * radius if length is None else length, ' [m]')
+    if drumRadius < 5 * radius or length < 4 * radius:
+        raise ValueError('drum: drumRadius=%g m and length=%g m must be at least 5 and 4 particle radii (radius=%g m)'
+                         % (drumRadius, length, radius))
+    _checks.in_range(f, 'fill', fill, 0, 0.6, lo_open=True)
+    _checks.in_range(f, 'wetFraction', wetFraction, 0, 1)
+    _checks.in_range(f, 'filmRel', filmRel, 0, 1)
+    _checks.in_range(f, 'wallFriction', wallFriction, 0, math.pi / 2)
+    _checks.choice(f, 'liquidModel', liquidModel, ('fixed', 'film'))
+    _checks.boolean(f, 'wetWalls', wetWalls)
+    segments = _checks.integer(f, 'segments', segments, minimum=8)
+    if rpm is not None:
+        omega = _checks.positive(f, 'rpm', rpm) * 2 * math.pi / 60
+        froude = omega ** 2 * drumRadius / G
+    else:
+        omega = math.sqrt(_checks.in_range(f, 'froude', froude, 0, 1, lo_open=True) * G / drumRadius)
+    if n is None:
+        n = int(round(fill * math.pi * drumRadius ** 2 * length * 0.6 / (4 / 3 * math.pi * radius ** 3)))
+    n = _checks.integer(f, 'n', n, minimum=1)
+    ip2_args, rest = bridge_parameters(viscosity=viscosity, liquidModel=liquidModel, **effects)
+    if rest:
+        raise ValueError('drum: unknown parameter(s) %s' % ', '.join(sorted(rest)))
+
+    O.reset()
+    plot.reset()
+    particles = O.materials.append(yw.FrictMat(young=young, poisson=poisson, density=density, frictionAngle=friction))
+    shell = O.materials.append(yw.FrictMat(young=young, poisson=poisson, density=density, frictionAngle=wallFriction))
+    facets = _shell(drumRadius, length, segments, shell)
+    spheres = _bed(n, radius, drumRadius, length, seed, particles)
+    if not wetWalls:
+        liquid.make_dry(material=O.materials[shell])
+    rotation = yw.RotationEngine(ids=facets, rotationAxis=(0, 1, 0), rotateAroundZero=True, zeroPoint=(0, 0, 0),
+                                 angularVelocity=omega, label='drumRotation')
+    O.engines = engines(gravity=(0, 0, -G), integration=integration, minRadius=0.9 * radius, kinematic=[rotation], **ip2_args)
+    O.dt = 1e-6  # the time stepper takes over
+    if liquidModel == 'film' and wetFraction > 0 and filmRel > 0:
+        import random
+        rng = random.Random(seed)
+        wet = sorted(rng.sample(spheres, int(round(wetFraction * len(spheres)))))
+        liquid.set_film(wet, [filmRel * 4 / 3 * math.pi * O.bodies[i].shape.radius ** 3 for i in wet])
+    params = dict(radius=radius, drumRadius=drumRadius, length=length, fill=fill, n=n, froude=froude,
+                  rpm=omega * 60 / (2 * math.pi), viscosity=viscosity, liquidModel=liquidModel, wetFraction=wetFraction,
+                  filmRel=filmRel, wetWalls=wetWalls, integration=integration, seed=seed)
+    params.update(ip2_args)
+    return Drum(params, omega, spheres, facets, rotation)
+
+
+def _shell(drumRadius, length, segments, material):
+    """The drum's cylinder of facets (axis y, through the origin) and two flat end walls, all on
+    `material`; returns the cylinder's facet ids (the end walls stay still)."""
+    # geom.facetCylinder's axis is z: turned a quarter round x it lies along y
+    q = Quaternion((1, 0, 0), math.pi / 2)
+    facets = O.bodies.append(geom.facetCylinder((0, 0, 0), drumRadius, length, orientation=q, segmentsNumber=segments,
+                                                wallMask=4, material=material))
+    O.bodies.append([utils.wall(-length / 2, axis=1, sense=1, material=material),
+                     utils.wall(length / 2, axis=1, sense=-1, material=material)])
+    return facets
+
+
+def _bed(n, radius, drumRadius, length, seed, material):
+    """n spheres (radius ±10 %) on a jittered cubic lattice of spacing 2.3 r in the lower part of the
+    drum, lowest first: they fall into a bed as the drum starts to turn."""
+    import random
+    rng = random.Random(seed)
+    pitch, inner = 2.3 * radius, drumRadius - 1.2 * radius
+    span = int(inner // pitch)
+    sites = [(i * pitch, -length / 2 + 1.15 * radius + j * pitch, k * pitch)
+             for i in range(-span, span + 1) for k in range(-span, span + 1)
+             for j in range(int((length - 2.3 * radius) // pitch) + 1) if (i * pitch) ** 2 + (k * pitch) ** 2 < (inner - radius) ** 2]
+    if len(sites) < n:
+        raise ValueError('drum: only %d of n=%d spheres fit in the drum (drumRadius=%g m, length=%g m); allowed: a '
+                         'larger drum or fewer spheres (fill)' % (len(sites), n, drumRadius, length))
+    sites.sort(key=lambda c: (c[2], c[0], c[1]))
+    jitter = 0.04 * radius
+    return [O.bodies.append(utils.sphere(tuple(x + rng.uniform(-jitter, jitter) for x in c), radius * rng.uniform(0.9, 1.0),
+                                         material=material)) for c in sites[:n]]
