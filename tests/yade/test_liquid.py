@@ -187,3 +187,20 @@ def test_distribution_counts_half_of_each_bridge():
     d = liquid.distribution()
     assert list(d.ids) == [a, b] and list(d.liquid) == pytest.approx([2 * PICO, 2 * PICO], rel=1e-12)
     assert d.cov == pytest.approx(0, abs=1e-12)
+
+
+def test_a_saved_film_scene_is_a_film_scene_again_after_loading(tmp_path):
+    """The liquid model is not saved with the Ip2 (scenes saved before it existed keep loading): the
+    saved ViscBridgeLiquid engine restores it at the first step, and the liquid stays conserved."""
+    a, b = row([1 * PICO, 3 * PICO])
+    run_until(lambda: bridges())
+    path = str(tmp_path / 'film.yade.gz')
+    O.save(path)
+    O.reset()
+    O.load(path)
+    O.run(1, True)
+    ip2 = next(e for e in O.engines if isinstance(e, yw.InteractionLoop)).physDispatcher.functors[0]
+    assert ip2.liquidModel == 'film' and all(i.phys.liquidModel == 'film' for i in O.interactions if i.isReal)
+    reverse()
+    run_until(lambda: not bridges())
+    assert films([a, b]) == pytest.approx([2 * PICO, 2 * PICO], rel=1e-12)

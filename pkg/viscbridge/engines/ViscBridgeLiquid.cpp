@@ -4,7 +4,9 @@
 #include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include "viscbridge/yade/ViscBridgeState.hpp"
+#include "viscbridge/yade/Ip2_FrictMat_FrictMat_ViscBridgePhys.hpp"
 #include <core/Scene.hpp>
+#include <core/InteractionLoop.hpp>
 #include <pkg/common/Sphere.hpp>
 
 namespace yade {
@@ -26,10 +28,31 @@ void ViscBridgeLiquid::action()
 	if (distributed::active(scene))
 		throw std::runtime_error("ViscBridgeLiquid: liquidModel='film' does not run under yade.mpy (a bridge between two subdomains would take "
 		                         "liquid from a film only one of them owns); run it serially or with threads (-j), or use liquidModel='fixed'.");
+	if (restoredIn != scene) restoreLiquidModel();
 	const std::vector<BridgeEvent>& events = ViscBridgeContext::of(scene).events(scene->iter);
 	if (events.empty()) return;
 	formBridges(events);  // from the films as they were at the start of the step (L1)
 	returnLiquid(events); // then the ruptured bridges' liquid (available from the next step)
+}
+
+void ViscBridgeLiquid::restoreLiquidModel()
+{
+	// The liquid model is not saved with the Ip2 and the physics (so that scenes saved before it
+	// existed load); this engine is, and a scene that has it takes its liquid from the films.
+	const std::string film = vb::liquidModelNames[static_cast<int>(vb::LiquidModel::film)];
+	for (const auto& engine : scene->engines)
+		if (auto* loop = dynamic_cast<InteractionLoop*>(engine.get()))
+			for (const auto& functor : loop->physDispatcher->functors)
+				if (auto* ip2 = dynamic_cast<Ip2_FrictMat_FrictMat_ViscBridgePhys*>(functor.get()); ip2 && ip2->liquidModel != film) {
+					ip2->liquidModel = film;
+					ip2->postLoad(*ip2);
+				}
+	for (const auto& I : *scene->interactions)
+		if (auto* ph = I->isReal() ? dynamic_cast<ViscBridgePhys*>(I->phys.get()) : nullptr; ph && !ph->constants.fromFilms) {
+			ph->liquidModel         = film;
+			ph->constants.fromFilms = true;
+		}
+	restoredIn = scene;
 }
 
 Real ViscBridgeLiquid::filmOf(Body::id_t id) const
@@ -62,7 +85,7 @@ void ViscBridgeLiquid::formBridges(const std::vector<BridgeEvent>& events)
 		if (e.kind != BridgeEvent::Kind::formed) continue;
 		const shared_ptr<Interaction>& I  = scene->interactions->find(e.id1, e.id2);
 		auto*                          ph = I && I->isReal() ? dynamic_cast<ViscBridgePhys*>(I->phys.get()) : nullptr;
-		if (!ph || !ph->constants.fromFilms || !ph->bridge) continue;
+		if (!ph || !ph->bridge) continue;
 		phys[i] = ph;
 		++newBridges[e.id1], ++newBridges[e.id2];
 	}
@@ -73,6 +96,10 @@ void ViscBridgeLiquid::formBridges(const std::vector<BridgeEvent>& events)
 		if (!phys[i]) continue;
 		// until now the bridge held its cap, the largest volume it may take (the Ip2's)
 		const vb::FilmTake take = vb::takeFromFilms(offer[events[i].id1], offer[events[i].id2], phys[i]->bridgeVolume);
+		if (!(take.volume > 0)) { // no liquid (only in the first step after loading, before the films were asked)
+			phys[i]->bridge = false;
+			continue;
+		}
 		if (take.from1 > 0) addToFilm(events[i].id1, -take.from1);
 		if (take.from2 > 0) addToFilm(events[i].id2, -take.from2);
 		giveBridgeVolume(*phys[i], take.volume);
@@ -83,7 +110,7 @@ void ViscBridgeLiquid::formBridges(const std::vector<BridgeEvent>& events)
 void ViscBridgeLiquid::returnLiquid(const std::vector<BridgeEvent>& events)
 {
 	for (const BridgeEvent& e : events) {
-		if (e.kind != BridgeEvent::Kind::ruptured || !e.fromFilms || !(e.volume > 0)) continue;
+		if (e.kind != BridgeEvent::Kind::ruptured || !(e.volume > 0)) continue;
 		const shared_ptr<Body>&b1 = Body::byId(e.id1, scene), &b2 = Body::byId(e.id2, scene);
 		if (!b1 && !b2) {
 			lostVolume += e.volume;

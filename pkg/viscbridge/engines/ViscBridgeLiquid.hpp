@@ -17,6 +17,9 @@ class ViscBridgePhys;
 class ViscBridgeLiquid : public GlobalEngine {
 	AttributeRollback<std::string> rollback;
 	viscbridge::RuptureSplit       split = viscbridge::RuptureSplit::half;
+	const Scene*                   restoredIn = nullptr; // the scene whose liquid model this engine has set
+
+	void restoreLiquidModel(); // after loading: the Ip2s and the bridges are 'film' again (not saved)
 
 	void formBridges(const std::vector<BridgeEvent>& events);
 	void returnLiquid(const std::vector<BridgeEvent>& events);

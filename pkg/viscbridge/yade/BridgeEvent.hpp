@@ -15,7 +15,6 @@ struct BridgeEvent {
 	Body::id_t id1, id2;   // the interaction's bodies (id1 < id2 as YADE orders them)
 	Real       volume;     // the bridge's liquid volume [m³]
 	Real       separation; // the surface gap S when it happened [m]
-	bool       fromFilms;  // its liquid comes from (and returns to) the particles' films (physics.md §11)
 
 	// The order in which a step's events are read (independent of the thread that published them).
 	friend bool operator<(const BridgeEvent& a, const BridgeEvent& b)

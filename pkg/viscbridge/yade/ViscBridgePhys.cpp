@@ -34,7 +34,6 @@ void ViscBridgePhys::postLoad(ViscBridgePhys&)
 {
 	namespace vb      = viscbridge;
 	const char* owner = "ViscBridgePhys";
-	vb::parseName(owner, "liquidModel", liquidModel, vb::liquidModelNames, "liquid model");
 	vb::ModelSelection s;
 	s.normal     = vb::modelIndex<vb::NormalSlot>(owner, normalModel);
 	s.tangential = vb::modelIndex<vb::TangentialSlot>(owner, tangentialModel);

@@ -52,7 +52,7 @@ public:
 		((Real,surfaceTension,0,Attr::readonly,"Surface tension $\\gamma$ [N/m]."))
 		((Real,contactAngle,0,Attr::readonly,"Contact angle $\\theta$ [rad]."))
 		((Real,bridgeVolume,0,Attr::readonly,"Bridge volume $V$ [m³]: fixed when the physics is created (liquidModel 'fixed'), or taken from the particles' films when the bridge forms (liquidModel 'film'; until then, the largest volume it may take)."))
-		((string,liquidModel,"fixed",Attr::readonly,"Where the bridge's liquid comes from: 'fixed' (a volume of its own) or 'film' (the particles' films, given back at rupture); see :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys.liquidModel`."))
+		((string,liquidModel,"fixed",Attr::readonly|Attr::noSave,"Where the bridge's liquid comes from: 'fixed' (a volume of its own) or 'film' (the particles' films, given back at rupture); see :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys.liquidModel`. Not saved (scenes saved before it existed keep loading): after loading, :yref:`ViscBridgeLiquid` restores it."))
 		((Real,sMin,0,Attr::readonly,"Minimum gap $S_{min}$ at which the viscous coefficients are evaluated (P6) [m]."))
 		((Real,sRup,0,Attr::readonly,"Rupture distance $S_{rup}=(1+\\theta/2)V^{1/3}$ (P11) [m]."))
 		((Real,formationDistance,0,Attr::readonly,"The bridge forms when $S$ falls below this distance (0: at contact) [m]."))
