@@ -54,3 +54,41 @@ def test_bad_arguments_name_themselves():
         agglomerates(min_force=-1)
     with pytest.raises(ValueError, match='scene'):
         agglomerates('no/such/file.yade')
+
+
+def row_of_three():
+    """Three touching spheres on the x axis moved kinematically (translations blocked: a sphere with
+    every degree of freedom blocked is not dynamic for YADE, nor a member), every contact a bridge."""
+    mat = material()
+    ids = [O.bodies.append(utils.sphere((2 * R * k * 0.999, 0, 0), R, material=mat)) for k in range(3)]
+    for i in ids:
+        O.bodies[i].state.blockedDOFs = 'xyz'
+    O.engines = viscbridge.engines(gravity=(0, 0, 0), viscosity=0.01, timeStepper=False)
+    O.dt = 1e-6
+    O.run(2, True)
+    return ids
+
+
+def test_a_bridge_that_ruptures_splits_its_agglomerate():
+    a, b, c = row_of_three()
+    assert list(agglomerates().sizes) == [3]
+    O.bodies[c].state.vel = (0.1, 0, 0)  # pulled away until its bridge ruptures
+    while any(i.isReal and i.phys.bridge for i in O.interactions if c in (i.id1, i.id2)):
+        O.run(100, True)
+    split = agglomerates()
+    assert list(split.sizes) == [2, 1] and split.label_of(a) == split.label_of(b) == 0 and split.label_of(c) == 1
+
+
+def test_labels_follow_body_ids_with_gaps_from_erased_bodies():
+    mat = material()
+    ids = [O.bodies.append(utils.sphere((2 * R * k * 0.999, 0, 0), R, material=mat)) for k in range(6)]
+    O.bodies.erase(ids[1])
+    O.bodies.erase(ids[4])  # left: 0, then 2-3 touching, then 5 alone
+    O.engines = viscbridge.engines(gravity=(0, 0, 0), viscosity=0.01, timeStepper=False)
+    O.dt = 1e-6
+    O.run(2, True)
+    a = agglomerates()
+    assert list(a.ids) == [0, 2, 3, 5] and list(a.sizes) == [2, 1, 1]
+    assert a.label_of(2) == a.label_of(3) == 0 and {a.label_of(0), a.label_of(5)} == {1, 2}
+    with pytest.raises(KeyError):
+        a.label_of(1)
