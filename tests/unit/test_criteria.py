@@ -586,3 +586,17 @@ def test_criteria_reproduce_the_kernels_to_1e_12():
         worst[r['q']] = max(worst.get(r['q'], 0.0), err)
     assert all(e <= 1e-12 for e in worst.values()), {k: v for k, v in worst.items() if v > 1e-12}
     assert len(rows) > 2000
+
+
+@pytest.mark.parametrize('call, name', [
+    (lambda: C.rupture_distance(-1), 'bridge_volume'),
+    (lambda: C.rupture_distance(1e-12, contact_angle=2.0), 'contact_angle'),
+    (lambda: C.pair_limit(1e-6, damping=-1, stiffness=0), 'damping'),
+    (lambda: C.pair_limit(0, damping=1, stiffness=0), 'm_eff'),
+    (lambda: C.pair_limit(1e-6, damping=1, stiffness=float('nan')), 'stiffness'),
+    (lambda: C.network_limit(-1, 0), 'd'),
+    (lambda: C.rayleigh_dt(0.5e-3, 2500, 1e7, 0.3, fraction=2), 'fraction'),
+])
+def test_helpers_refuse_out_of_range_values_by_name(call, name):
+    with pytest.raises(ValueError, match=name):
+        call()

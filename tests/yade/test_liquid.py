@@ -204,3 +204,19 @@ def test_a_saved_film_scene_is_a_film_scene_again_after_loading(tmp_path):
     reverse()
     run_until(lambda: not bridges())
     assert films([a, b]) == pytest.approx([2 * PICO, 2 * PICO], rel=1e-12)
+
+
+def test_legal_but_implausible_values_are_said_once(capfd):
+    capfd.readouterr()
+    ip2 = yw.Ip2_FrictMat_FrictMat_ViscBridgePhys()
+    ip2.capillaryModel = 'willett'  # surfaceTension still 0
+    ip2.viscosity = 1e7
+    err = capfd.readouterr().err
+    assert "capillaryModel='willett' has no effect while surfaceTension is 0" in err
+    assert 'viscosity=1e+07 Pa·s is outside 1e-4–1e5 Pa·s' in err
+    # bridgeVolume=0.01 meant as 1 %: said at the first bridge, once
+    row([0, 0], liquidModel='fixed', bridgeVolume=0.01)
+    run_until(lambda: bridges())
+    O.run(10, True)
+    err = capfd.readouterr().err
+    assert err.count('is larger than its particles: bridgeVolume is in m³') == 1

@@ -51,7 +51,28 @@ void Ip2_FrictMat_FrictMat_ViscBridgePhys::postLoad(Ip2_FrictMat_FrictMat_ViscBr
 {
 	const bool changed = rollback.differs(checked());
 	rollback.check(checked(), [&] { validate(); });
-	if (changed) warnExistingKeepTheirs();
+	if (changed) {
+		warnExistingKeepTheirs();
+		warnIneffectiveOrImplausible();
+	}
+}
+
+void Ip2_FrictMat_FrictMat_ViscBridgePhys::warnIneffectiveOrImplausible() const
+{
+	if (capillaryModel != vb::CapillaryModels::names[0] && !(surfaceTension > 0))
+		LOG_WARN(ip2Name << ".capillaryModel='" << capillaryModel
+		                 << "' has no effect while surfaceTension is 0: set surfaceTension [N/m] (water: 0.072) for a capillary force.");
+	if (viscosity > 0 && (viscosity < 1e-4 || viscosity > 1e5))
+		LOG_WARN(ip2Name << ".viscosity=" << viscosity << " Pa·s is outside 1e-4–1e5 Pa·s (water 1e-3, binders 1–1000): is the unit right?");
+}
+
+void Ip2_FrictMat_FrictMat_ViscBridgePhys::warnBridgeSize(Real volume, Real particleVolume, Real sRup, Real radius)
+{
+	// legal, but almost surely a unit mistake (bridgeVolume=0.01 meant as 1 %): said once per Ip2
+	if (!(volume > particleVolume || sRup > 2 * radius) || warnedBridgeSize.exchange(true)) return;
+	LOG_WARN(ip2Name << ": a bridge of volume " << volume << " m³ (rupture distance " << sRup << " m) between particles of volume "
+	                 << particleVolume << " m³ (radius " << radius
+	                 << " m) is larger than its particles: bridgeVolume is in m³; for a fraction of the particles' volume use bridgeVolumeRel.");
 }
 
 void Ip2_FrictMat_FrictMat_ViscBridgePhys::warnExistingKeepTheirs() const
@@ -114,6 +135,10 @@ void Ip2_FrictMat_FrictMat_ViscBridgePhys::go(const shared_ptr<Material>& m1, co
 	}
 	phys->sMin              = sMin > 0 ? sMin : sMinRel * phys->rEff;
 	phys->sRup              = vb::ruptureDistance(phys->bridgeVolume, contactAngle);
+	if (bridgeVolume > 0 && s.normal + s.tangential + s.capillary > 0) {
+		const Real r = std::max(phys->radius1, phys->radius2);
+		warnBridgeSize(phys->bridgeVolume, sphereVolume(r), phys->sRup, r);
+	}
 	phys->formationDistance = formationDistance;
 	phys->buildConstants(s);
 	interaction->phys = phys;

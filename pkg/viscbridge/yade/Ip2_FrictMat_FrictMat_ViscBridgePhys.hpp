@@ -6,6 +6,7 @@
 #include "viscbridge/core/models/Parameters.hpp"
 #include "viscbridge/core/liquid/FilmExchange.hpp"
 #include "viscbridge/yade/AttributeRollback.hpp"
+#include <atomic>
 #include <core/Dispatching.hpp>
 #include <pkg/common/ElastMat.hpp>
 
@@ -22,6 +23,9 @@ class Ip2_FrictMat_FrictMat_ViscBridgePhys : public IPhysFunctor {
 	Real& numeric(std::size_t i); // the attribute of parameters::all[i]
 	const Scene* usedIn = nullptr; // the scene whose interactions this functor has built
 	void         warnExistingKeepTheirs() const;
+	void         warnIneffectiveOrImplausible() const; // legal values that are almost surely a mistake
+	std::atomic<bool> warnedBridgeSize { false };       // a bridge larger than its particles (once)
+	void              warnBridgeSize(Real volume, Real particleVolume, Real sRup, Real radius);
 
 public:
 	viscbridge::ModelSelection selection; // parsed normalModel, tangentialModel, capillaryModel

@@ -4,6 +4,8 @@ Plain Python.
 """
 import math
 
+from .._checks import non_negative, positive
+
 __all__ = ['pair_limit', 'network_limit']
 
 
@@ -14,6 +16,10 @@ def pair_limit(m_eff, damping, stiffness):
     ratio ζ = C/(2√(m*k)): ω₀Δt < 2(√(1+ζ²) − ζ) (R5).  min(2√(m*/k), 2m*/C) overestimates it by up
     to the golden ratio 1.618, reached at ζ = 1/2.
     """
+    f = 'pair_limit'
+    m_eff = positive(f, 'm_eff', m_eff, ' [kg]')
+    damping = non_negative(f, 'damping', damping, ' [N·s/m]')
+    stiffness = non_negative(f, 'stiffness', stiffness, ' [N/m]')
     if damping == 0 and stiffness == 0:
         return math.inf
     return 4.0 * m_eff / (damping + math.sqrt(damping * damping + 4.0 * m_eff * stiffness))
@@ -22,6 +28,8 @@ def pair_limit(m_eff, damping, stiffness):
 def network_limit(d, kappa):
     """P14: Δt ≤ 4/(d + √(d² + 4κ)) with d = Σ_j (C_n + 3.5 C_t)(1/m_i + 1/m_j) and
     κ = Σ_j (k_n + 3.5 k_t)(1/m_i + 1/m_j).  Dashpots only (κ = 0): 2/d; springs only: 2/√κ."""
+    d = non_negative('network_limit', 'd', d, ' [1/s]')
+    kappa = non_negative('network_limit', 'kappa', kappa, ' [1/s²]')
     if d == 0 and kappa == 0:
         return math.inf
     return 4.0 / (d + math.sqrt(d * d + 4.0 * kappa))

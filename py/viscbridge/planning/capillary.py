@@ -4,7 +4,7 @@ largest stiffness the time step takes.  Plain Python, the same formulas as the C
 """
 import math
 
-from .._checks import choice
+from .._checks import choice, in_range, non_negative
 from .inputs import CAPILLARY_MODELS
 
 __all__ = ['rupture_distance', 'capillary_force', 'capillary_stiffness', 'capillary_max_stiffness']
@@ -12,6 +12,8 @@ __all__ = ['rupture_distance', 'capillary_force', 'capillary_stiffness', 'capill
 
 def rupture_distance(bridge_volume, contact_angle=0.0):
     """P11 (Lian et al. 1993): S_rup = (1 + θ/2) V^(1/3)."""
+    bridge_volume = non_negative('rupture_distance', 'bridge_volume', bridge_volume, ' [m³]')
+    contact_angle = in_range('rupture_distance', 'contact_angle', contact_angle, 0, math.pi / 2, unit=' [rad]')
     return (1.0 + 0.5 * contact_angle) * bridge_volume ** (1.0 / 3.0)
 
 

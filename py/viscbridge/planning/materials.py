@@ -5,7 +5,7 @@ step, Hertz collision time).  Plain Python.
 """
 import math
 
-from .._checks import number, positive, reject
+from .._checks import in_range, number, positive, reject
 from .inputs import _geometry, _poisson
 
 __all__ = ['RAYLEIGH_A', 'RAYLEIGH_B', 'HERTZ_TC', 'sphere_volume', 'sphere_mass', 'reduced_radius',
@@ -125,8 +125,8 @@ def rayleigh_time(radius, density, young, poisson):
 
 
 def rayleigh_dt(radius, density, young, poisson, fraction=0.2):
-    """The usual DEM collision step: fraction · T_R (see :func:`rayleigh_time`)."""
-    fr = positive('rayleigh_dt', 'fraction', fraction)
+    """The usual DEM collision step: fraction · T_R (see :func:`rayleigh_time`), fraction in (0, 1]."""
+    fr = in_range('rayleigh_dt', 'fraction', fraction, 0, 1, lo_open=True)
     return fr * rayleigh_time(radius, density, young, poisson)
 
 

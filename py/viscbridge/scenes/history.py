@@ -9,9 +9,15 @@ __all__ = ['write_history_csv', 'log_limits', 'plot_history']
 
 
 def write_history_csv(data, path):
-    """yade.plot.data (dict of equal-length columns) as CSV with a header row."""
+    """yade.plot.data (dict of equal-length columns) as CSV with a header row.  An O.energy term
+    (``E_...``) is 0 in the rows before it was first booked (yade.plot fills them with nan)."""
     keys = sorted(data, key=lambda k: (k not in ('t', 'iter', 'dt'), k))
-    rows = zip(*(data[k] for k in keys))
+
+    def column(k):
+        if not k.startswith('E_'):
+            return data[k]
+        return [0.0 if isinstance(v, float) and math.isnan(v) else v for v in data[k]]
+    rows = zip(*(column(k) for k in keys))
     tmp = path + '.part'
     with open(tmp, 'w', newline='') as fh:
         w = csv.writer(fh)
