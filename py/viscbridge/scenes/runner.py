@@ -91,7 +91,8 @@ class Settling:
         guard = self.guard()
         guard_error = guard.lastError if guard else ''
         try:
-            self._run_and_wait(steps, duration)
+            with _quiet_expected_stops(guard is not None):
+                self._run_and_wait(steps, duration)
         except RuntimeError:
             if not (guard and guard.lastError != guard_error):
                 raise
@@ -159,6 +160,26 @@ class Settling:
         return 'n=%d, r=%.3g m, μ=%.3g Pa·s, S_min/r̄=%s, %s, %s' % (
             p['n'], p['radius'], p['viscosity'], p['sMinRel'] if not p['sMin'] else '%.3g m' % p['sMin'],
             p['integration'], dt)
+
+
+class _quiet_expected_stops:
+    """While a run with a guard goes on: a guard stop is a result that run() returns (its diagnosis
+    in our words), not the "FATAL ERROR ... Exception occured" YADE's ThreadRunner logs for any
+    exception in an engine.  Any other error still reaches the caller as RuntimeError."""
+
+    def __init__(self, active):
+        self.active = active
+
+    def __enter__(self):
+        if self.active:
+            from yade import log
+            log.setLevel('ThreadRunner', 0)  # below FATAL: nothing
+
+    def __exit__(self, *exc):
+        if self.active:
+            from yade import log
+            log.unsetLevel('ThreadRunner')
+        return False
 
 
 _ACTIVE = [None]
