@@ -31,15 +31,22 @@ void ViscBridgeTimeStepper::postLoad(ViscBridgeTimeStepper&)
 
 bool ViscBridgeTimeStepper::isActivated()
 {
-	// timeStepUpdateInterval is inherited, without a hook on assignment, so it is checked here, at the
-	// first step: the stepper must run every step, because it corrects dt at once for the bridges that
-	// form between its full updates (which it schedules itself, up to maxInterval); a larger value
-	// would let a new bridge run at the dry dt (measured: a blow-up at the first bridge), and 0 is a
-	// division by zero in the base class
-	if (timeStepUpdateInterval != 1)
-		viscbridge::rejectValue("ViscBridgeTimeStepper", "timeStepUpdateInterval", static_cast<double>(timeStepUpdateInterval),
-		                        "1 (the stepper runs every step and schedules its own full updates: see maxInterval)");
-	return TimeStepper::isActivated();
+	// timeStepUpdateInterval is inherited, without a hook on assignment, so it is checked here.  The
+	// stepper runs every step whatever it says (it corrects dt at once for the bridges that form
+	// between full updates: skipping steps let a new bridge run at the dry dt, a blow-up at the first
+	// bridge); a value above 1 — a habit from GlobalStiffnessTimeStepper scripts — caps the steps
+	// between full updates instead (fullUpdateCap).  0 would divide by zero in YADE's base class.
+	if (timeStepUpdateInterval == 0)
+		viscbridge::rejectValue("ViscBridgeTimeStepper", "timeStepUpdateInterval", 0.0,
+		                        ">= 1 (the most steps between full updates; the stepper still corrects dt every step)");
+	return active;
+}
+
+int ViscBridgeTimeStepper::fullUpdateCap() const
+{
+	// YADE's default 1 leaves the interval to maxInterval; a larger value caps it
+	return timeStepUpdateInterval > 1 ? std::min<int>(maxInterval, static_cast<int>(std::min<unsigned>(timeStepUpdateInterval, 1000000000u)))
+	                                  : maxInterval;
 }
 
 bool ViscBridgeTimeStepper::viscousImplicit() const { return viscousIntegrationIsImplicit(scene); }
@@ -87,7 +94,7 @@ void ViscBridgeTimeStepper::fullUpdate(Scene* sc)
 	// the interval grows while the limit stays put and shrinks when it moves
 	if (hAtUpdate > 0 && std::isfinite(h) && std::isfinite(hAtUpdate)) {
 		const Real change = std::abs(h - hAtUpdate) / hAtUpdate;
-		if (change < 0.01) updateInterval = std::min(2 * updateInterval, maxInterval);
+		if (change < 0.01) updateInterval = std::min(2 * updateInterval, fullUpdateCap());
 		else if (change > 0.05) updateInterval = std::max(updateInterval / 2, 1);
 	}
 	hAtUpdate      = h;
@@ -179,7 +186,7 @@ void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 			validatedSignature = signature;
 		}
 	});
-	const bool due = lastUpdateIter < 0 || sc->iter - lastUpdateIter >= updateInterval;
+	const bool due = lastUpdateIter < 0 || sc->iter - lastUpdateIter >= std::min(updateInterval, fullUpdateCap());
 	addFormedBridges(sc);
 	// a scene just loaded has new engine objects (a new signature) but the saved state is its own
 	bool anyChanged = changed && !resumesSavedState(sc);

@@ -31,6 +31,7 @@ class ViscBridgeTimeStepper : public TimeStepper {
 
 	bool viscousImplicit() const;
 	void fullUpdate(Scene*);
+	int  fullUpdateCap() const; // the most steps between full updates: maxInterval, or timeStepUpdateInterval if > 1
 	// A bridge formed since the last full update: its bodies and the P14 rates it adds, C/m* and k/m*.
 	struct FormedBridge {
 		Body::id_t id1, id2;
@@ -74,9 +75,10 @@ public:
 		"stays within 1 % and halves when it moves by more than 5 % (1 … maxInterval). In between, every "
 		"step takes the bridges that formed (the law reports them) into account with a rigorous "
 		"correction (Weyl's inequality with their P14 rates), and a full update follows as soon as they "
-		"lower the limit by 10 %. The stepper therefore runs every step: the inherited "
-		":yref:`timeStepUpdateInterval<TimeStepper.timeStepUpdateInterval>` must stay 1 (other values are "
-		"an error at the first step; maxInterval is the knob). With :yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous.integration` = "
+		"lower the limit by 10 %. The stepper therefore runs every step; the inherited "
+		":yref:`timeStepUpdateInterval<TimeStepper.timeStepUpdateInterval>`, when set above YADE's default 1 (as "
+		"GlobalStiffnessTimeStepper scripts do), is the most steps between full updates (it caps maxInterval); "
+		"formations are still corrected every step. With :yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous.integration` = "
 		"'implicit' the bridges' viscous damping leaves the operator (P15).\n\n"
 		"The default safety 0.5 puts a dashpot-dominated mode at $1/\\lambda_{max}$ of its damping, the "
 		"limit below which a viscous mode decays without reversing (no spurious rebound; for an equal "
