@@ -22,8 +22,9 @@ __all__ = ['set_film', 'add', 'film', 'total', 'in_films', 'in_bridges', 'distri
            'spray', 'Spray', 'make_dry']
 
 
-def _ids(func, ids):
-    """`ids` as a list of sphere ids of O.bodies (ValueError naming a bad one)."""
+def _ids(func, ids, spheres_only=True):
+    """`ids` as a list of ids of existing bodies of O.bodies — spheres only, unless told otherwise
+    (ValueError naming a bad one)."""
     from yade import O
     import yade.wrapper as yw
     if isinstance(ids, int) and not isinstance(ids, bool):
@@ -35,7 +36,7 @@ def _ids(func, ids):
     for i in ids:
         if isinstance(i, bool) or not isinstance(i, int) or not 0 <= i < len(O.bodies) or O.bodies[i] is None:
             _checks.reject(func, 'ids', i, 'ids of existing bodies (0 to %d)' % (len(O.bodies) - 1))
-        if not isinstance(O.bodies[i].shape, yw.Sphere):
+        if spheres_only and not isinstance(O.bodies[i].shape, yw.Sphere):
             _checks.reject(func, 'ids', i, 'spheres only (body %d is a %s: walls and facets carry no film)'
                            % (i, type(O.bodies[i].shape).__name__))
     return ids
@@ -218,10 +219,7 @@ def make_dry(ids=None, material=None):
             _checks.reject('make_dry', 'material', material, 'a Material of O.materials')
         ids = [b.id for b in O.bodies if b is not None and b.material.id == material.id]
     else:
-        ids = [ids] if isinstance(ids, int) else list(ids)
-        for i in ids:
-            if isinstance(i, bool) or not isinstance(i, int) or not 0 <= i < len(O.bodies) or O.bodies[i] is None:
-                _checks.reject('make_dry', 'ids', i, 'ids of existing bodies (0 to %d)' % (len(O.bodies) - 1))
+        ids = _ids('make_dry', ids, spheres_only=False)
     for i in ids:
         yw.ViscBridgeState.of(O.bodies[i]).wettable = False
     return ids

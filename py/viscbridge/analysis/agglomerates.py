@@ -109,23 +109,24 @@ def edges_of_scene(min_force=0.0, min_volume=0.0):
     `min_volume` [m³]."""
     from yade import O
     import yade.wrapper as yw
+    from .. import liquid
     node = {b.id: _node(b) for b in O.bodies if b is not None}
     members = sorted({m for m in node.values() if m is not None})
     index = {m: k for k, m in enumerate(members)}
+    # a member's liquid: its spheres' (film + share of each bridge, viscbridge.liquid's one rule)
+    with_liquid = any(hasattr(O.bodies[i].state, 'film') for i, m in node.items() if m is not None)
     per_member = numpy.zeros(len(members))
-    with_liquid = False
-    for b in O.bodies:
-        if b is not None and node.get(b.id) is not None and hasattr(b.state, 'film'):
-            per_member[index[node[b.id]]] += b.state.film
-            with_liquid = True
+    if with_liquid:
+        spread = liquid.distribution()
+        for i, volume in zip(spread.ids.tolist(), spread.liquid.tolist()):
+            if node.get(i) is not None:
+                per_member[index[node[i]]] += volume
     edges = []
     for I in O.interactions:
         if not (I.isReal and isinstance(I.phys, yw.ViscBridgePhys) and I.phys.bridge):
             continue
-        ends = [node.get(i) for i in (I.id1, I.id2) if node.get(i) is not None]
-        for m in ends:  # a bridge's liquid is its particles' (all of it to the particle of a wall bridge)
-            per_member[index[m]] += I.phys.bridgeVolume / len(ends)
-        if len(ends) == 2 and ends[0] != ends[1] and I.phys.bridgeVolume >= min_volume and (
+        ends = [node.get(i) for i in (I.id1, I.id2)]
+        if None not in ends and ends[0] != ends[1] and I.phys.bridgeVolume >= min_volume and (
                 min_force <= 0 or (I.phys.normalForce + I.phys.shearForce).norm() >= min_force):
             edges.append(tuple(ends))
     masses = [O.bodies[m].state.mass for m in members]
