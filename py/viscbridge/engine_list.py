@@ -62,7 +62,7 @@ def _detection_range(formationDistance, minRadius):
 
 
 def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, safety=None, guard=True,
-            minRadius=None, label_prefix='', ruptureSplit='half', kinematic=(), **effects):
+            minRadius=None, label_prefix='', ruptureSplit='half', minBridgeVolume=0.0, kinematic=(), **effects):
     """Return ``O.engines`` for a wet scene.
 
     Keyword arguments of :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys` select the effects and the
@@ -88,6 +88,8 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
         where they belong: right before NewtonIntegrator, which then moves the bodies they drive.
     ruptureSplit: with liquidModel='film', how a ruptured bridge's liquid returns to the films:
         'half' or 'radius' (ViscBridgeLiquid.ruptureSplit).
+    minBridgeVolume: with liquidModel='film', the least liquid [m³] a bridge forms from
+        (ViscBridgeLiquid.minBridgeVolume; 0: any liquid).
     """
     gravity, ip2_args = _checked_engine_args(gravity, integration, timeStepper, safety, guard, label_prefix, effects)
     ip2 = yw.Ip2_FrictMat_FrictMat_ViscBridgePhys(label=label_prefix + 'viscBridgeIp2', **ip2_args)
@@ -99,9 +101,11 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
         out.append(yw.ViscBridgeGuard(label=label_prefix + 'guard'))
     out += [yw.ForceResetter()] + _contact_engines(ip2, law, minRadius, label_prefix)
     if ip2.liquidModel == 'film':  # before the stepper: it sees the new bridges' actual volumes
-        out.append(yw.ViscBridgeLiquid(label=label_prefix + 'liquid', ruptureSplit=ruptureSplit))
+        out.append(yw.ViscBridgeLiquid(label=label_prefix + 'liquid', ruptureSplit=ruptureSplit, minBridgeVolume=minBridgeVolume))
     elif ruptureSplit != 'half':
         raise ValueError("engines(ruptureSplit=%r): the split of a ruptured bridge's liquid needs liquidModel='film'" % (ruptureSplit,))
+    elif minBridgeVolume != 0:
+        raise ValueError("engines(minBridgeVolume=%r): a threshold on the liquid a bridge forms from needs liquidModel='film'" % (minBridgeVolume,))
     if timeStepper and hasattr(yw, 'ViscBridgeTimeStepper'):
         kw = {} if safety is None else {'safety': safety}
         out.append(yw.ViscBridgeTimeStepper(label=label_prefix + 'timeStepper', **kw))

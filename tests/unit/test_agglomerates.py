@@ -2,7 +2,7 @@
 import numpy
 import pytest
 
-from viscbridge.analysis.agglomerates import components
+from viscbridge.analysis.agglomerates import components, transitions
 
 
 def test_chains_and_lone_spheres_by_hand():
@@ -25,6 +25,18 @@ def test_liquid_per_agglomerate_and_its_cov():
     a = components([0, 1, 2], [(0, 1)], [1, 1, 1], liquid=[1.0, 3.0, 2.0])
     assert list(a.liquid) == [4.0, 2.0]
     assert a.liquid_cov == pytest.approx(numpy.std([1, 3, 2]) / 2)
+
+
+def test_transitions_count_breakage_and_coalescence():
+    before = components([1, 2, 3, 4, 5, 6], [(1, 2), (2, 3), (5, 6)], [1] * 6)  # {1,2,3} {4} {5,6}
+    # {1,2,3} breaks into {1} and {2,3}; {2,3} takes up {4}: one broke, one formed by coalescence;
+    # {5,6} stays whole; body 7 appears and body 6 is gone (only common spheres count)
+    after = components([1, 2, 3, 4, 5, 7], [(2, 3), (3, 4)], [1] * 6)
+    assert transitions(before, after) == (1, 1)
+    assert transitions(before, before) == (0, 0)
+    assert transitions(before, components([9], [], [1])) == (0, 0)
+    whole = components([1, 2, 3, 4, 5, 6], [(1, 2), (2, 3), (3, 4), (4, 5), (5, 6)], [1] * 6)
+    assert transitions(before, whole) == (0, 1) and transitions(whole, before) == (1, 0)
 
 
 def test_size_distribution_bins_double():

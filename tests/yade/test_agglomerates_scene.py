@@ -92,3 +92,21 @@ def test_labels_follow_body_ids_with_gaps_from_erased_bodies():
     assert a.label_of(2) == a.label_of(3) == 0 and {a.label_of(0), a.label_of(5)} == {1, 2}
     with pytest.raises(KeyError):
         a.label_of(1)
+
+
+def test_the_history_counts_the_breakage_and_leaves_the_users_names_alone(tmp_path):
+    """A recorder's PyRunner runs in the script's namespace: it must not rebind a user's name (it
+    once imported itself as `h`)."""
+    import __main__
+    from viscbridge.analysis.agglomerate_history import AgglomerateHistory
+    a, b, c = row_of_three()
+    __main__.h = 'the user name'
+    history = AgglomerateHistory(str(tmp_path / 'a.csv'))
+    O.engines = O.engines + [history.recorder(iterPeriod=100)]
+    O.bodies[c].state.vel = (0.1, 0, 0)
+    while any(i.isReal and i.phys.bridge for i in O.interactions if c in (i.id1, i.id2)):
+        O.run(100, True)
+    O.run(100, True)
+    assert __main__.h == 'the user name'
+    assert sum(r['broken'] for r in history.rows) == 1 and sum(r['merged'] for r in history.rows) == 0
+    assert history.rows[-1]['agglomerates'] == 2

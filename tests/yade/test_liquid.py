@@ -104,6 +104,31 @@ def test_a_bridge_at_its_cap_leaves_the_excess_in_the_films():
     assert films([a, b]) == pytest.approx([3 * CAP - 0.75 * CAP, CAP - 0.25 * CAP], rel=1e-12)
 
 
+def test_no_bridge_forms_from_less_than_the_threshold():
+    """L5: films that hold less than minBridgeVolume together leave a dry contact and keep their
+    liquid; three in a row whose middle film is shared below the threshold form one bridge, not two."""
+    a, b = row([0.4 * PICO, 0.5 * PICO], minBridgeVolume=1 * PICO)
+    run_until(lambda: any(i.isReal and i.geom.penetrationDepth > 0 for i in O.interactions))
+    O.run(20, True)
+    I = next(i for i in O.interactions if i.isReal)
+    assert not I.phys.bridge and I.phys.normalViscousForce.norm() == 0
+    assert films([a, b]) == pytest.approx([0.4 * PICO, 0.5 * PICO], rel=1e-12)
+    O.reset()
+    a, b = row([0.6 * PICO, 0.5 * PICO], minBridgeVolume=1 * PICO)
+    run_until(lambda: bridges())
+    assert bridges() == pytest.approx({(a, b): 1.1 * PICO}, rel=1e-12)
+    # two bridges formed in one step share b's film, 0.9 to each: a-b would take 1.0, less than 1.2,
+    # and does not form; b-c then takes b's whole film (2.1); a keeps its 0.1, and later a-b has
+    # too little (0.1) to form
+    O.reset()
+    a, b, c = ids = row([0.1 * PICO, 1.8 * PICO, 0.3 * PICO], minBridgeVolume=1.2 * PICO)
+    run_until(lambda: bridges())
+    assert bridges() == pytest.approx({(b, c): 2.1 * PICO}, rel=1e-12)
+    O.run(200, True)
+    assert bridges() == pytest.approx({(b, c): 2.1 * PICO}, rel=1e-12)
+    assert films(ids) == pytest.approx([0.1 * PICO, 0, 0], abs=1e-25, rel=1e-12)
+
+
 def test_radius_split_gives_back_by_surface():
     mat = material()
     O.bodies.append([utils.sphere((0, 0, 0), R, material=mat), utils.sphere((3 * R + 0.1 * R, 0, 0), 2 * R, material=mat)])
@@ -176,6 +201,10 @@ def test_bad_liquid_input_is_refused_by_name():
         yw.Ip2_FrictMat_FrictMat_ViscBridgePhys(liquidModel='nope')
     with pytest.raises(ValueError, match='ruptureSplit'):
         yw.ViscBridgeLiquid(ruptureSplit='thirds')
+    with pytest.raises(ValueError, match=r'minBridgeVolume.*>= 0'):
+        yw.ViscBridgeLiquid(minBridgeVolume=-1e-12)
+    with pytest.raises(ValueError, match="minBridgeVolume.*needs liquidModel='film'"):
+        viscbridge.engines(minBridgeVolume=1e-12)
     with pytest.raises(ValueError, match='film'):
         O.bodies[1].state = yw.ViscBridgeState()
         O.bodies[1].state.film = -1

@@ -17,8 +17,9 @@ namespace vb = viscbridge;
 
 void ViscBridgeLiquid::postLoad(ViscBridgeLiquid&)
 {
-	rollback.check(std::tie(ruptureSplit), [&] {
+	rollback.check(std::tie(ruptureSplit, minBridgeVolume), [&] {
 		split = static_cast<vb::RuptureSplit>(vb::parseName("ViscBridgeLiquid", "ruptureSplit", ruptureSplit, vb::ruptureSplitNames, "split"));
+		vb::requireNonNegative("ViscBridgeLiquid", "minBridgeVolume", minBridgeVolume, " [m³]; 0 means any liquid forms a bridge");
 	});
 }
 
@@ -75,34 +76,53 @@ void ViscBridgeLiquid::giveBridgeVolume(ViscBridgePhys& ph, Real volume)
 	ph.buildConstants(ph.selection);
 }
 
+std::vector<vb::FilmTake> ViscBridgeLiquid::settleTakes(const std::vector<BridgeEvent>& events, std::vector<ViscBridgePhys*>& phys)
+{
+	// L1 and L5: what each new bridge would take with every body's film shared among its new bridges.
+	// A bridge that would take less than the threshold and is the smallest such at both its bodies
+	// does not form, and its bodies share among fewer; repeated until every bridge left takes enough.
+	// The result does not depend on the visiting order, and a thinly shared film still forms its best bridges.
+	std::vector<vb::FilmTake> takes(events.size(), vb::FilmTake { 0, 0, 0 });
+	auto tooSmall = [&](std::size_t i) { return phys[i] && (!(takes[i].volume > 0) || takes[i].volume < minBridgeVolume); };
+	for (;;) {
+		std::map<Body::id_t, int> newBridges;
+		for (std::size_t i = 0; i < events.size(); ++i)
+			if (phys[i]) ++newBridges[events[i].id1], ++newBridges[events[i].id2];
+		std::map<Body::id_t, std::size_t> smallestAt; // each body's smallest too-small bridge (first in event order on ties)
+		for (std::size_t i = 0; i < events.size(); ++i) {
+			if (!phys[i]) continue;
+			// until now the bridge held its cap, the largest volume it may take (the Ip2's)
+			takes[i] = vb::takeFromFilms(vb::filmOffer(filmOf(events[i].id1), newBridges[events[i].id1]),
+			                             vb::filmOffer(filmOf(events[i].id2), newBridges[events[i].id2]), phys[i]->bridgeVolume);
+			if (!tooSmall(i)) continue;
+			for (const Body::id_t id : { events[i].id1, events[i].id2 })
+				if (auto [at, fresh] = smallestAt.emplace(id, i); !fresh && takes[i].volume < takes[at->second].volume) at->second = i;
+		}
+		if (smallestAt.empty()) return takes;
+		for (std::size_t i = 0; i < events.size(); ++i)
+			if (tooSmall(i) && smallestAt[events[i].id1] == i && smallestAt[events[i].id2] == i) {
+				phys[i]->bridge = false; // no liquid (first step after loading) or too little: a dry contact
+				phys[i]         = nullptr;
+			}
+	}
+}
+
 void ViscBridgeLiquid::formBridges(const std::vector<BridgeEvent>& events)
 {
-	// L1: every body's number of new bridges first, so that what it offers each does not depend on order
-	std::map<Body::id_t, int> newBridges;
 	std::vector<ViscBridgePhys*> phys(events.size(), nullptr);
 	for (std::size_t i = 0; i < events.size(); ++i) {
 		const BridgeEvent& e = events[i];
 		if (e.kind != BridgeEvent::Kind::formed) continue;
 		const shared_ptr<Interaction>& I  = scene->interactions->find(e.id1, e.id2);
 		auto*                          ph = I && I->isReal() ? dynamic_cast<ViscBridgePhys*>(I->phys.get()) : nullptr;
-		if (!ph || !ph->bridge) continue;
-		phys[i] = ph;
-		++newBridges[e.id1], ++newBridges[e.id2];
+		if (ph && ph->bridge) phys[i] = ph;
 	}
-	std::map<Body::id_t, Real> offer;
-	for (const auto& [id, n] : newBridges)
-		offer[id] = vb::filmOffer(filmOf(id), n);
+	const std::vector<vb::FilmTake> takes = settleTakes(events, phys); // from the films as at the start of the step
 	for (std::size_t i = 0; i < events.size(); ++i) {
 		if (!phys[i]) continue;
-		// until now the bridge held its cap, the largest volume it may take (the Ip2's)
-		const vb::FilmTake take = vb::takeFromFilms(offer[events[i].id1], offer[events[i].id2], phys[i]->bridgeVolume);
-		if (!(take.volume > 0)) { // no liquid (only in the first step after loading, before the films were asked)
-			phys[i]->bridge = false;
-			continue;
-		}
-		if (take.from1 > 0) addToFilm(events[i].id1, -take.from1);
-		if (take.from2 > 0) addToFilm(events[i].id2, -take.from2);
-		giveBridgeVolume(*phys[i], take.volume);
+		if (takes[i].from1 > 0) addToFilm(events[i].id1, -takes[i].from1);
+		if (takes[i].from2 > 0) addToFilm(events[i].id2, -takes[i].from2);
+		giveBridgeVolume(*phys[i], takes[i].volume);
 		++formed;
 	}
 }

@@ -139,7 +139,7 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::beginStep()
 				stepImplicit = false;
 				reportMissingSolver();
 			}
-			stepLiquidEngine = ViscBridgeContext::hasEngine(scene, "ViscBridgeLiquid");
+			stepFilms = ViscBridgeContext::findEngine<FilmSource>(scene);
 			stepScene        = scene;
 			stepIter.store(scene->iter, std::memory_order_release);
 		}
@@ -158,14 +158,14 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::reportMissingSolver()
 
 bool Law2_ScGeom_ViscBridgePhys_HertzViscous::filmsCanForm(Body::id_t id1, Body::id_t id2)
 {
-	if (!stepLiquidEngine) {
+	if (!stepFilms) {
 		reportMissingLiquidEngine();
 		return false;
 	}
 	Real liquid = 0;
 	for (const Body::id_t id : { id1, id2 })
 		if (const ViscBridgeState* s = ViscBridgeState::peek(*Body::byId(id, scene))) liquid += s->film;
-	return liquid > 0;
+	return liquid > 0 && liquid >= stepFilms->formationThreshold();
 }
 
 void Law2_ScGeom_ViscBridgePhys_HertzViscous::reportMissingLiquidEngine()

@@ -5,6 +5,7 @@
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include "viscbridge/core/models/EnergyKeys.hpp"
 #include "viscbridge/yade/AttributeRollback.hpp"
+#include "viscbridge/yade/FilmSource.hpp"
 #include <array>
 #include <core/Dispatching.hpp>
 #include <pkg/dem/ScGeom.hpp>
@@ -20,7 +21,7 @@ class Law2_ScGeom_ViscBridgePhys_HertzViscous : public LawFunctor {
 	std::atomic<long>             stepIter { -1 };
 	const Scene*                  stepScene = nullptr;
 	bool                          stepImplicit = false; // integration is 'implicit' and the solver is there
-	bool                          stepLiquidEngine = false; // a ViscBridgeLiquid is in O.engines
+	const FilmSource*             stepFilms = nullptr; // O.engines' ViscBridgeLiquid, if any
 	void                          beginStep();
 	void                          reportMissingSolver();
 	void                          reportMissingLiquidEngine();
@@ -33,7 +34,7 @@ public:
 	std::array<int, viscbridge::energyKeyCount> energyIndex;
 	int integrationIndex = 0; // parsed `integration`
 	void addEnergy(Real value, viscbridge::EnergyKey key);
-	// Whether bodies id1 and id2 carry liquid for a bridge of liquidModel 'film' (physics.md L0); read
+	// Whether bodies id1 and id2 carry liquid for a bridge of liquidModel 'film' (physics.md L0, L5); read
 	// only where the bridge would form (a rare path), so 'fixed' scenes never look at the films.
 	bool filmsCanForm(Body::id_t id1, Body::id_t id2);
 

@@ -39,6 +39,13 @@ public:
 
 	// Whether O.engines has an engine of class `className` (by name: engines never know each other's classes).
 	static bool hasEngine(const Scene* scene, const std::string& className);
+	// The first engine of O.engines that implements interface `Interface` (declared in this layer), or null.
+	template <class Interface> static const Interface* findEngine(const Scene* scene)
+	{
+		for (const auto& e : scene->engines)
+			if (const auto* found = dynamic_cast<const Interface*>(e.get())) return found;
+		return nullptr;
+	}
 
 	// Errors found where nothing can be thrown: the first one is raised by ViscBridgeGuard at the start
 	// of the next step (a guard is added to O.engines for this if there is none).

@@ -15,12 +15,14 @@ import os
 import numpy
 
 from .. import _checks
-from .agglomerates import agglomerates
+from .agglomerates import agglomerates, transitions
 
 __all__ = ['AgglomerateHistory', 'mass_median_size', 'COLUMNS']
 
 COLUMNS = ('t', 'iter', 'spheres', 'agglomerates', 'largest', 'largest_mass_fraction', 'd50', 'mean_size',
-           'coordination', 'liquid_cov', 'bridges')
+           'coordination', 'liquid_cov', 'bridges', 'broken', 'merged')
+"""The CSV's columns.  ``broken`` and ``merged``: agglomerates that broke and that formed by
+coalescence since the previous row (:func:`~viscbridge.analysis.agglomerates.transitions`)."""
 
 
 def mass_median_size(a):
@@ -41,6 +43,7 @@ class AgglomerateHistory:
             _checks.reject('AgglomerateHistory', 'csv_path', csv_path, 'a file name')
         self.csv_path, self.min_force, self.min_volume = csv_path, min_force, min_volume
         self.rows, self.snapshots = [], []
+        self._last = None
         os.makedirs(os.path.dirname(os.path.abspath(csv_path)), exist_ok=True)
         with open(csv_path, 'w') as fh:
             fh.write(','.join(COLUMNS) + '\n')
@@ -50,11 +53,13 @@ class AgglomerateHistory:
         from yade import O
         a = agglomerates(min_force=self.min_force, min_volume=self.min_volume)
         multi = a.sizes[a.sizes > 1]
+        broken, merged = transitions(self._last, a) if self._last is not None else (0, 0)
+        self._last = a
         row = dict(t=O.time, iter=O.iter, spheres=len(a.ids), agglomerates=a.count, largest=a.largest,
                    largest_mass_fraction=float(a.mass_fractions[0]) if a.count else math.nan, d50=mass_median_size(a),
                    mean_size=float(multi.mean()) if len(multi) else 1.0, coordination=a.coordination,
                    liquid_cov=a.liquid_cov if a.liquid_cov is not None else math.nan,
-                   bridges=int(round(a.coordination * len(a.ids) / 2)))
+                   bridges=int(round(a.coordination * len(a.ids) / 2)), broken=broken, merged=merged)
         self.rows.append(row)
         self.snapshots.append((O.time, a.sizes.copy(), a.mass_fractions.copy()))
         with open(self.csv_path, 'a') as fh:
@@ -67,15 +72,17 @@ class AgglomerateHistory:
         if (iterPeriod is None) == (virtPeriod is None):
             raise ValueError('AgglomerateHistory.recorder: give exactly one of iterPeriod=... or virtPeriod=... [s]')
         _HISTORIES.append(self)
-        command = 'import viscbridge.analysis.agglomerate_history as h; h._HISTORIES[%d].record()' % (len(_HISTORIES) - 1)
+        # binds only the name `viscbridge` in the user's namespace (an alias would clobber their own)
+        command = ('import viscbridge.analysis.agglomerate_history; '
+                   'viscbridge.analysis.agglomerate_history._HISTORIES[%d].record()' % (len(_HISTORIES) - 1))
         if iterPeriod is not None:
             return yw.PyRunner(iterPeriod=_checks.integer('recorder', 'iterPeriod', iterPeriod, minimum=1), command=command, initRun=True)
         return yw.PyRunner(virtPeriod=_checks.positive('recorder', 'virtPeriod', virtPeriod, ' [s]'), command=command, initRun=True)
 
     def plot(self, path, times=None, title=''):
         """Write a PNG: (left) the mass distribution over agglomerate size at `times` [s] (default:
-        four times spread over the record), (right) the number of agglomerates, the largest and the
-        mass-median size d50 over time."""
+        four times spread over the record), (middle) the number of agglomerates, the largest and the
+        mass-median size d50 over time, (right) breakage and coalescence events summed over time."""
         import matplotlib
         matplotlib.use('Agg')
         import matplotlib.pyplot as plt
@@ -86,7 +93,7 @@ class AgglomerateHistory:
             picks = sorted({int(round(k * (len(recorded) - 1) / 3)) for k in range(4)})
         else:
             picks = [int(numpy.argmin([abs(r - t) for r in recorded])) for t in times]
-        fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2))
+        fig, (left, right, events) = plt.subplots(1, 3, figsize=(15, 4.2))
         top = max(int(s.max()) for _, s, _ in self.snapshots)
         edges = [0.5] + [2 ** k + 0.5 for k in range(int(math.ceil(math.log2(max(top, 2)))) + 1)]
         width = 0.8 / len(picks)
@@ -114,6 +121,12 @@ class AgglomerateHistory:
         lines = right.get_lines() + twin.get_lines()
         right.legend(lines, [line.get_label() for line in lines], fontsize=8, loc='center right')
         right.set_title('Growth over time')
+        for column, colour, label in (('merged', 'C0', 'formed by coalescence'), ('broken', 'C3', 'broken')):
+            events.step(t, numpy.cumsum([r[column] for r in self.rows]), colour, where='post', label=label)
+        events.set_xlabel('time [s]')
+        events.set_ylabel('agglomerates (summed since the start)')
+        events.set_title('Coalescence and breakage')
+        events.legend(fontsize=8)
         if title:
             fig.suptitle(title, fontsize=10)
         fig.tight_layout()

@@ -14,7 +14,7 @@ import math
 
 import numpy
 
-__all__ = ['Agglomerates', 'components', 'agglomerates', 'edges_of_scene']
+__all__ = ['Agglomerates', 'components', 'agglomerates', 'edges_of_scene', 'transitions']
 
 
 class Agglomerates:
@@ -89,6 +89,21 @@ def components(ids, edges, masses, liquid=None):
     labels = rank[raw]
     liquid = None if liquid is None else numpy.asarray(liquid, dtype=float)
     return Agglomerates(ids, labels, edges, numpy.asarray(masses, dtype=float), liquid)
+
+
+def transitions(previous, current):
+    """(broken, merged) between two :class:`Agglomerates` of the same run: ``broken`` counts the
+    agglomerates of `previous` whose members now lie in more than one agglomerate (breakage or
+    erosion), ``merged`` the agglomerates of `current` made of members of more than one previous
+    agglomerate (coalescence or layering).  Only spheres present at both times count; an agglomerate
+    may have both broken and merged in between, as granules do in a flow."""
+    common, at_prev, at_cur = numpy.intersect1d(previous.ids, current.ids, assume_unique=True, return_indices=True)
+    if not len(common):
+        return 0, 0
+    pairs = numpy.unique(numpy.stack([previous.labels[at_prev], current.labels[at_cur]], axis=1), axis=0)
+    broken = numpy.count_nonzero(numpy.bincount(pairs[:, 0]) > 1)
+    merged = numpy.count_nonzero(numpy.bincount(pairs[:, 1]) > 1)
+    return int(broken), int(merged)
 
 
 def _node(body):

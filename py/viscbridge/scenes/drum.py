@@ -62,7 +62,7 @@ class Drum:
 
 
 def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.05, rpm=None, viscosity=10.0,
-         liquidModel='film', wetFraction=0.15, filmRel=0.02, wetWalls=False, integration='implicit',
+         liquidModel='film', wetFraction=0.15, filmRel=0.02, minBridgeRel=0.0, wetWalls=False, integration='implicit',
          density=2500.0, young=1e7, poisson=0.3, friction=0.5, wallFriction=0.8, segments=32, seed=1, **effects):
     """Build a drum in O (which is reset) and return its :class:`Drum` handle.
 
@@ -87,6 +87,7 @@ def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.
     _checks.in_range(f, 'fill', fill, 0, 0.6, lo_open=True)
     _checks.in_range(f, 'wetFraction', wetFraction, 0, 1)
     _checks.in_range(f, 'filmRel', filmRel, 0, 1)
+    _checks.in_range(f, 'minBridgeRel', minBridgeRel, 0, 1)
     _checks.in_range(f, 'wallFriction', wallFriction, 0, math.pi / 2)
     _checks.choice(f, 'liquidModel', liquidModel, ('fixed', 'film'))
     _checks.boolean(f, 'wetWalls', wetWalls)
@@ -113,7 +114,9 @@ def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.
         liquid.make_dry(material=O.materials[shell])
     rotation = yw.RotationEngine(ids=facets, rotationAxis=(0, 1, 0), rotateAroundZero=True, zeroPoint=(0, 0, 0),
                                  angularVelocity=omega, label='drumRotation')
-    O.engines = engines(gravity=(0, 0, -G), integration=integration, minRadius=0.9 * radius, kinematic=[rotation], **ip2_args)
+    film_args = {} if liquidModel != 'film' else {'minBridgeVolume': minBridgeRel * 4 / 3 * math.pi * radius ** 3}
+    O.engines = engines(gravity=(0, 0, -G), integration=integration, minRadius=0.9 * radius, kinematic=[rotation],
+                        **film_args, **ip2_args)
     O.dt = 1e-6  # the time stepper takes over
     if liquidModel == 'film' and wetFraction > 0 and filmRel > 0:
         import random
@@ -122,7 +125,7 @@ def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.
         liquid.set_film(wet, [filmRel * 4 / 3 * math.pi * O.bodies[i].shape.radius ** 3 for i in wet])
     params = dict(radius=radius, drumRadius=drumRadius, length=length, fill=fill, n=n, froude=froude,
                   rpm=omega * 60 / (2 * math.pi), viscosity=viscosity, liquidModel=liquidModel, wetFraction=wetFraction,
-                  filmRel=filmRel, wetWalls=wetWalls, integration=integration, seed=seed)
+                  filmRel=filmRel, minBridgeRel=minBridgeRel, wetWalls=wetWalls, integration=integration, seed=seed)
     params.update(ip2_args)
     return Drum(params, omega, spheres, facets, rotation)
 
