@@ -3,23 +3,23 @@
 #   ./yadew run examples/drum_granulation.py [OUTPUT_DIRECTORY] [--quick]
 #
 # 1000 spheres (r = 1 mm, ρ = 2500 kg/m³) fill a third of a drum (radius 25 mm, length 10 mm) that
-# turns at the Froude number 0.05 (42 rpm) for two revolutions: the bed cascades.  15 % of the particles carry a film of
-# a 10 Pa·s binder (2 % of their volume, liquidModel='film'): a bridge forms where a wet particle
-# touches another one and takes its liquid from the films (docs/liquid.md); the drum wall does not
-# wet.  The viscous forces are implicit (the time step is the collision step).
+# turns at the Froude number 0.05 (42 rpm) for three revolutions: the bed cascades.  15 % of the
+# particles carry a film of a 1 Pa·s binder (2 % of their volume, liquidModel='film'): a bridge
+# forms where a wet particle touches another one and takes its liquid from the films, if there is
+# at least 0.2 % of a particle's volume (docs/liquid.md); the drum wall does not wet.  The viscous
+# forces are implicit (the time step is the collision step).  These are viscbridge.scenes.drum's
+# defaults; docs/drum.md says which parameters move the drum between regimes.
 #
 # Every 1/16 revolution it records the agglomerates (viscbridge.agglomerates(): connected components
 # of the bridges between particles) and writes VTK files for ParaView (particles coloured by
 # agglomerate or liquid, bridges as lines).  Output (OUTPUT_DIRECTORY, default output/drum):
 # agglomerates.csv, agglomerates.png (size distribution by mass at four times; number of
-# agglomerates, largest and d50 over time), vtk/*.vtp and vtk/*.pvd.
-# Expected (measured): the agglomerates coalesce — 1000 → 192 of them after two revolutions, the
-# largest holding 771 spheres, coordination 3.1 — while the bed keeps cascading (its centre of mass
-# on the rising side; it does not turn as one lump).  About 4.5 min on 2 cores, most of it in the
-# implicit solve, whose cost grows with the number of bridges (0.9 ms per step at the start, 2.5 ms
-# after two revolutions); a preconditioner that scales (issue 26) is what would make it faster.
-# With every particle wetted (wetFraction=1) or a wet wall the bed percolates into one network
-# within a fraction of a revolution; with fewer wet particles (wetFraction=0.05) it grows slower.
+# agglomerates, largest and d50 over time; agglomerates broken and formed by coalescence), vtk/*.vtp
+# and vtk/*.pvd.
+# Expected (measured): the agglomerates grow and break — 1000 → 395 after one revolution, → about
+# 210 after three, the largest swinging between 450 and 620 spheres as its necks break and heal;
+# about 600 coalescences and 380 breakages over the run.  About 6 min on 2 cores (5.7 min
+# measured); where the time goes: docs/drum.md.
 # --quick (or VISCBRIDGE_QUICK=1): 150 spheres in a smaller drum for 0.3 revolution (the tests).
 import os
 import sys
@@ -38,13 +38,13 @@ out_dir = os.path.abspath(args[0] if args else os.path.join('output', 'drum'))
 os.makedirs(out_dir, exist_ok=True)
 
 r = 1e-3
-VISCOSITY = 10.0  # Pa·s
+# the drum's defaults (docs/drum.md): Fr = 0.05, μ = 1 Pa·s, 15 % wetted, dry walls
 if quick:
-    drum = scenes.drum(radius=r, drumRadius=12 * r, n=150, froude=0.05, viscosity=VISCOSITY)
+    drum = scenes.drum(radius=r, drumRadius=12 * r, n=150)
     revolutions = 0.3
 else:
-    drum = scenes.drum(radius=r, drumRadius=25 * r, n=1000, froude=0.05, viscosity=VISCOSITY)
-    revolutions = 2.0
+    drum = scenes.drum(radius=r, drumRadius=25 * r, n=1000)
+    revolutions = 3.0
 print(drum.describe())
 
 history = AgglomerateHistory(os.path.join(out_dir, 'agglomerates.csv'))

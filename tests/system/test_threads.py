@@ -108,30 +108,43 @@ for row in range(40):
     y = 10 * R * row
     for k in range(5):
         b = utils.sphere(((2.3 * R) * (k - 2), y, 0), R, material=mat)
-        b.state.blockedDOFs = 'xyzXYZ'
+        b.state.blockedDOFs = 'xyz'  # rotations free: a sphere with nothing free is no agglomerate member
         b.state.vel = (-(0.03 + 0.001 * row) * (k - 2), 0, 0)
         ids.append(O.bodies.append(b))
-O.engines = viscbridge.engines(gravity=(0, 0, 0), timeStepper=False, viscosity=0.01, liquidModel='film', formationDistance=0.05 * R)
+O.engines = viscbridge.engines(gravity=(0, 0, 0), timeStepper=False, viscosity=0.01, liquidModel='film', formationDistance=0.05 * R,
+                               minBridgeVolume=float(os.environ.get('MIN_BRIDGE', 0)))
 O.dt = 1e-6
 liquid.set_film(ids, [(1 + (7 * i) % 5) * 1e-13 for i in ids])
 total = liquid.total()
 O.run(6000, True)
+together = viscbridge.agglomerates()
 for b in O.bodies:
     b.state.vel = -b.state.vel
 O.run(12000, True)
 engine = next(e for e in O.engines if isinstance(e, yw.ViscBridgeLiquid))
 json.dump({'threads': O.numThreads, 'films': [liquid.film(i) for i in ids], 'formed': engine.formed, 'ruptured': engine.ruptured,
-           'total': [total, liquid.total()]}, open(os.environ['VISCBRIDGE_RESULT'], 'w'))
+           'total': [total, liquid.total()], 'sizes': together.sizes.tolist(), 'labels': together.labels.tolist()},
+          open(os.environ['VISCBRIDGE_RESULT'], 'w'))
 """
 
 
-def test_liquid_moves_identically_on_1_and_2_threads():
-    """The offer rule L1 reads the step's formations in one order (physics.md §11): the films after
-    formations and ruptures are bit-identical on 1 and 2 threads, and the total is conserved."""
-    _, one = run_yade(FILM_SCRIPT, threads=1)
-    _, two = run_yade(FILM_SCRIPT, threads=2)
+@pytest.mark.parametrize('min_bridge', [0, 6e-13])
+def test_liquid_moves_identically_on_1_and_2_threads(min_bridge):
+    """The offer rule L1 and the threshold L5 read the step's formations in one order (physics.md
+    §11): the films after formations and ruptures, and the agglomerates of the bridges, are
+    bit-identical on 1 and 2 threads, and the total is conserved."""
+    env = {'MIN_BRIDGE': repr(min_bridge)}
+    _, one = run_yade(FILM_SCRIPT, threads=1, env=env)
+    _, two = run_yade(FILM_SCRIPT, threads=2, env=env)
     assert (one['threads'], two['threads']) == (1, 2)
-    assert one['formed'] >= 160 and one['ruptured'] == one['formed']
+    # 40 rows of five: without a threshold every row is one agglomerate of five; with it some
+    # contacts stay dry (films of 1e-13 to 5e-13 m³, some shared among two bridges)
+    if min_bridge:
+        assert 40 < len(one['sizes']) < 200 and one['formed'] < 160
+    else:
+        assert one['sizes'] == [5] * 40 and one['formed'] >= 160
+    assert one['ruptured'] == one['formed']
     assert one['films'] == two['films'] and one['formed'] == two['formed']
+    assert one['sizes'] == two['sizes'] and one['labels'] == two['labels']
     for r in (one, two):
         assert abs(r['total'][1] - r['total'][0]) <= 1e-12 * r['total'][0]

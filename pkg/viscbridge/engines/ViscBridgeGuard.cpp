@@ -135,15 +135,22 @@ void ViscBridgeGuard::accumulateBoundaryWork(bool newRun)
 		kinematic.clear();
 		const auto own = distributed::ownership(scene); // [MPI] on the rank that owns them
 		for (const auto& b : *scene->bodies)
-			if (b && !b->isDynamic() && own.body(*b)) kinematic.push_back(b->getId());
+			if (b && b->state->blockedDOFs != State::DOF_NONE && !b->isClumpMember() && own.body(*b)) kinematic.push_back(b->getId());
 	}
 	for (Body::id_t id : kinematic) {
 		const shared_ptr<Body>& b = Body::byId(id, scene);
-		if (!b || b->isDynamic()) continue;
+		if (!b || b->state->blockedDOFs == State::DOF_NONE) continue;
 		const Vector3r moved = newRun ? Vector3r(b->state->vel * scene->dt) : Vector3r(b->state->pos - lastPos[id]);
 		lastPos[id]          = b->state->pos;
-		if (moved.allFinite()) delivered -= scene->forces.getForce(id).dot(moved); // NaN: first call
-		delivered -= scene->forces.getTorque(id).dot(b->state->angVel) * scene->dt;
+		// a blocked degree of freedom moves as prescribed whatever the force on it: along it the
+		// constraint does the work (all six for a wall; the blocked ones of a partly blocked sphere)
+		Vector3r force = scene->forces.getForce(id), torque = scene->forces.getTorque(id);
+		for (int axis = 0; axis < 3; ++axis) {
+			if (!(b->state->blockedDOFs & State::axisDOF(axis, false))) force[axis] = 0;
+			if (!(b->state->blockedDOFs & State::axisDOF(axis, true))) torque[axis] = 0;
+		}
+		if (moved.allFinite()) delivered -= force.dot(moved); // NaN: first call
+		delivered -= torque.dot(b->state->angVel) * scene->dt;
 	}
 	boundaryWork += delivered;
 	// with energy tracking, as "boundaryWork" beside NewtonIntegrator's gravWork (same sign: what

@@ -11,7 +11,7 @@ class ViscBridgeGuard : public GlobalEngine {
 	// the energy reference (E5 of physics.md): kinetic + elastic energy and positions at referenceIter
 	std::vector<Vector3r>   startPos;
 	std::vector<Vector3r>   lastPos;   // per body id, at the previous call (kinematic bodies' work)
-	std::vector<Body::id_t> kinematic; // bodies that do not move under forces (walls, fixed ones)
+	std::vector<Body::id_t> kinematic; // bodies with degrees of freedom that do not move under forces (walls, fixed or partly blocked ones)
 	Real                    startEnergy = 0, boundaryWork = 0, lastSlack = 0, capillaryAtReference = 0;
 	long                    referenceIter = -1;
 	int                     boundaryWorkIx = -1;

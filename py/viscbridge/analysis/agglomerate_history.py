@@ -119,7 +119,7 @@ class AgglomerateHistory:
         twin.set_ylabel('size [spheres]')
         twin.grid(False)
         lines = right.get_lines() + twin.get_lines()
-        right.legend(lines, [line.get_label() for line in lines], fontsize=8, loc='center right')
+        right.legend(lines, [line.get_label() for line in lines], fontsize=8, loc='upper center', bbox_to_anchor=(0.5, -0.15), ncol=3)
         right.set_title('Growth over time')
         for column, colour, label in (('merged', 'C0', 'formed by coalescence'), ('broken', 'C3', 'broken')):
             events.step(t, numpy.cumsum([r[column] for r in self.rows]), colour, where='post', label=label)

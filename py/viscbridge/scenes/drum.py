@@ -1,13 +1,15 @@
 """A wet granulation drum (:func:`drum`): a horizontal cylinder of facets turned by YADE's
 RotationEngine, partly filled with spheres, some of them wetted with a viscous binder.
 
-The regime is set by four numbers (docs/drum.md): the Froude number Fr = ω²R_drum/g (rolling and
-cascading below ~0.1, cataracting above, centrifuging at 1), the fraction of particles that carry
-binder and how much (`wetFraction`, `filmRel`), whether the drum wall wets (`wetWalls`), and the
-viscous Stokes number of a collision St = 2ρrv/(9μ).  Defaults: dry walls, 15 % of the spheres
-wetted with 2 % of their volume, Fr = 0.05 — the bed cascades, agglomerates grow where wet particles
-meet and break where the flow shears them apart.  A wetted drum wall at these viscosities carries
-the whole bed round as one rigid lump (every bridge to the wall holds a particle for seconds).
+The regime is set by a few numbers (docs/drum.md): the Froude number Fr = ω²R_drum/g (rolling and
+cascading below ~0.1, cataracting above, centrifuging at 1); the binder — how many particles carry
+it and how much (`wetFraction`, `filmRel`) and the least liquid a bridge forms from
+(`minBridgeRel`); whether the drum wall wets (`wetWalls`); and the time a bridge takes to be pulled
+apart, t_pull ≈ (9/8)·μ/(ρ g r)·ln(S_rup/S_min), against the time of a revolution.  Defaults: dry
+walls, 15 % of the spheres wetted with 2 % of their volume, bridges of 0.2–1 % of a particle's
+volume, μ = 1 Pa·s with 1 mm spheres (t_pull ≈ 0.3 s, a revolution 1.1 s), Fr = 0.05 — the bed
+cascades, agglomerates grow where wet particles meet and break where the flow pulls them apart.
+A wetted drum wall at these viscosities carries the whole bed round as one rigid lump.
 """
 import math
 
@@ -61,8 +63,8 @@ class Drum:
             'wet' if p['wetWalls'] else 'dry', p['integration'])
 
 
-def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.05, rpm=None, viscosity=10.0,
-         liquidModel='film', wetFraction=0.15, filmRel=0.02, minBridgeRel=0.0, wetWalls=False, integration='implicit',
+def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.05, rpm=None, viscosity=1.0,
+         liquidModel='film', wetFraction=0.15, filmRel=0.02, minBridgeRel=0.002, wetWalls=False, integration='implicit',
          density=2500.0, young=1e7, poisson=0.3, friction=0.5, wallFriction=0.8, segments=32, seed=1, **effects):
     """Build a drum in O (which is reset) and return its :class:`Drum` handle.
 
@@ -72,7 +74,8 @@ def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.
     segments around, two triangular facets each; friction angle `wallFriction` [rad]) turns about the y axis at the Froude number
     `froude` = ω²R/g or at `rpm`.  The liquid: `viscosity` [Pa·s] with `liquidModel` 'film' (a
     fraction `wetFraction` of the spheres, chosen at random, carries a film of `filmRel` of its
-    volume; bridges take it from them, :mod:`viscbridge.liquid`) or 'fixed' (every contact wet);
+    volume; bridges take it from them, :mod:`viscbridge.liquid`, and form only from at least
+    `minBridgeRel` of a particle's volume, ViscBridgeLiquid.minBridgeVolume) or 'fixed' (every contact wet);
     `wetWalls` False makes the drum wall dry (no bridge).  Other Ip2 parameters (bridgeVolumeRel,
     normalModel, ...) pass through.  `integration`: 'implicit' (default: at 1–1000 Pa·s the
     explicit viscous limit would be 10²–10⁵ times the collision step) or 'explicit'.
