@@ -19,7 +19,7 @@
 # Expected (measured): the agglomerates grow and break — 1000 → 395 after one revolution, → about
 # 210 after three, the largest swinging between 450 and 620 spheres as its necks break and heal;
 # about 600 coalescences and 380 breakages over the run.  About 6 min on 2 cores (5.7 min
-# measured); where the time goes: docs/drum.md.
+# measured); where the time goes: docs/performance.md §7.
 # --quick (or VISCBRIDGE_QUICK=1): 150 spheres in a smaller drum for 0.3 revolution (the tests).
 import os
 import sys
