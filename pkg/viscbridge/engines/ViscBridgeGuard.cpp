@@ -32,6 +32,21 @@ namespace {
 	}
 	// the bodies whose motion the energy sums follow: dynamic ones, with a clump for its members
 	bool counted(const Body& b) { return b.isDynamic() && !b.isClumpMember(); }
+	// The kinetic energy at the time of the positions (E5): ½m v_{n−1/2}·v_{n+1/2}, the leapfrog's
+	// time-centred product, with v_{n−1/2} recovered from the last step's force (still in the
+	// container: the guard runs before ForceResetter).  ½m|v_{n+1/2}|² alone is half a step late and
+	// differs from it by about F·v·Δt/2 — in a stiff contact more than the guard's margin.  Rotation,
+	// clumps and blocked degrees of freedom keep the plain form (no torque-to-spin map is needed).
+	Real centredKineticEnergy(const Body& b, Scene& scene, const Vector3r& gravity)
+	{
+		const State& st = *b.state;
+		if (b.isClump() || !(st.mass > 0)) return bodyKineticEnergy(st);
+		Vector3r acceleration = scene.forces.getForce(b.getId()) / st.mass + gravity;
+		for (int axis = 0; axis < 3; ++axis)
+			if (st.blockedDOFs & State::axisDOF(axis, false)) acceleration[axis] = 0;
+		const Vector3r before = st.vel - acceleration * scene.dt;
+		return bodyKineticEnergy(st) - 0.5 * st.mass * st.vel.squaredNorm() + 0.5 * st.mass * st.vel.dot(before);
+	}
 	using Clock = std::chrono::steady_clock;
 	std::string vec(const Vector3r& v)
 	{
@@ -78,12 +93,21 @@ Real ViscBridgeGuard::capillaryWorkSoFar() const
 	return ViscBridgeContext::of(scene).conservativeWork.get();
 }
 
+Vector3r ViscBridgeGuard::gravity() const
+{
+	for (const auto& e : scene->engines)
+		if (const auto* n = dynamic_cast<const NewtonIntegrator*>(e.get())) return n->gravity;
+	return Vector3r::Zero();
+}
+
 Real ViscBridgeGuard::mechanicalEnergyNow() const
 {
-	const auto own = distributed::ownership(scene); // [MPI] this rank's share, then the sum over ranks
-	Real       e   = storedElasticEnergy();
+	const auto     own = distributed::ownership(scene); // [MPI] this rank's share, then the sum over ranks
+	const Vector3r g   = gravity();
+	scene->forces.sync(); // the last step's forces, for the time-centred kinetic energy
+	Real e = storedElasticEnergy();
 	for (const auto& b : *scene->bodies)
-		if (b && counted(*b) && own.body(*b)) e += bodyKineticEnergy(*b->state);
+		if (b && counted(*b) && own.body(*b)) e += centredKineticEnergy(*b, *scene, g);
 	return distributed::sum(scene, e);
 }
 
@@ -161,9 +185,8 @@ void ViscBridgeGuard::accumulateBoundaryWork(bool newRun)
 void ViscBridgeGuard::checkEnergy()
 {
 	++checks;
-	Vector3r gravity = Vector3r::Zero();
-	for (const auto& e : scene->engines)
-		if (const auto* n = dynamic_cast<const NewtonIntegrator*>(e.get())) gravity = n->gravity;
+	const Vector3r g = gravity();
+	scene->forces.sync();
 	// Sums over the bodies in parallel; which body is at fault is only looked for when the check fails.
 	Real       kinetic = 0, gravityWork = 0;
 	bool       finite  = true;
@@ -176,8 +199,8 @@ void ViscBridgeGuard::checkEnergy()
 		if (!b || !counted(*b) || !own.body(*b)) continue;
 		const State& st = *b->state;
 		finite          = finite && st.pos.allFinite() && st.vel.allFinite() && st.angVel.allFinite();
-		kinetic += bodyKineticEnergy(st);
-		if (k < nStart) gravityWork += st.mass * gravity.dot(st.pos - startPos[k]);
+		kinetic += centredKineticEnergy(*b, *scene, g);
+		if (k < nStart) gravityWork += st.mass * g.dot(st.pos - startPos[k]);
 	}
 	// what moving bodies and capillary attraction (minus its booked work, P21) have put in
 	Real elastic = finite ? storedElasticEnergy() : 0, work = boundaryWork - (capillaryWorkSoFar() - capillaryAtReference);

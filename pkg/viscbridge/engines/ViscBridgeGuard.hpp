@@ -33,6 +33,7 @@ class ViscBridgeGuard : public GlobalEngine {
 	void        checkEnergy();
 	Real        storedElasticEnergy() const;
 	Real        mechanicalEnergyNow() const;
+	Vector3r    gravity() const; // NewtonIntegrator's
 	Real        capillaryWorkSoFar() const; // −(work of the capillary forces), cumulative (the scene's context)
 	std::string diagnose(Body::id_t worst, const std::string& what);
 	std::string safeStepAdvice(bool implicit, bool washino);

@@ -165,7 +165,10 @@ class Settling:
 class _quiet_expected_stops:
     """While a run with a guard goes on: a guard stop is a result that run() returns (its diagnosis
     in our words), not the "FATAL ERROR ... Exception occured" YADE's ThreadRunner logs for any
-    exception in an engine.  Any other error still reaches the caller as RuntimeError."""
+    exception in an engine, nor the "ERROR ... Simulation error encountered" of O.wait().  Any
+    other error still reaches the caller as RuntimeError."""
+
+    LOGGERS = ('ThreadRunner', 'yadeWrapper.cpp')
 
     def __init__(self, active):
         self.active = active
@@ -173,12 +176,14 @@ class _quiet_expected_stops:
     def __enter__(self):
         if self.active:
             from yade import log
-            log.setLevel('ThreadRunner', 0)  # below FATAL: nothing
+            for name in self.LOGGERS:
+                log.setLevel(name, 0)  # below FATAL: nothing
 
     def __exit__(self, *exc):
         if self.active:
             from yade import log
-            log.unsetLevel('ThreadRunner')
+            for name in self.LOGGERS:
+                log.unsetLevel(name)
         return False
 
 
