@@ -4,6 +4,7 @@ campaign found and shrank stay here as regression tests."""
 import os
 import sys
 
+import pytest
 from hypothesis import HealthCheck, given, seed, settings
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, os.pardir, 'tools'))
@@ -12,7 +13,7 @@ import campaign  # noqa: E402
 
 @seed(0)
 @settings(max_examples=150, deadline=None, database=None, suppress_health_check=list(HealthCheck))
-@given(campaign.scene_specs())
+@given(campaign.scene_specs(moving=False))
 def test_random_scenes_keep_the_invariants(spec):
     campaign.check(spec)
 
@@ -30,3 +31,36 @@ DRY_BOUNCE = {'n': 2, 'radius': 0.002, 'spread': 0.0, 'boundary': 'floor', 'visc
 
 def test_a_dry_bounce_at_the_collision_step_is_not_stopped():
     campaign.check(DRY_BOUNCE)
+
+
+# Cases the campaign's first balance measure failed and the present one passes: mid-contact or in
+# the step a bridge forms, YADE's kinetic energy (½m|v_{n−1/2}|²) and the time-centred one differ by
+# up to half the kinetic energy, and either alone called these defects (balance off by 6–20 %).
+#  - seed 0, moving floor: ten wet spheres (films, 1 Pa·s) thrown at 0.05 m/s above a rising floor.
+RISING_FLOOR_FILMS = {'n': 10, 'radius': 0.001953125, 'spread': 0.3, 'boundary': 'floor', 'viscosity': 1.0,
+                      'normalModel': 'adamsPerchard', 'tangentialModel': 'none', 'capillaryModel': 'none', 'surfaceTension': 0.0,
+                      'liquidModel': 'film', 'integration': 'explicit', 'speed': 0.05, 'lift': 0.01, 'erase': False, 'seed': 9}
+#  - seed 2: 20 spheres of 0.2 mm (±30 %) at 0.5 m/s in a facet box, 10 Pa·s, implicit.
+IMPLICIT_FAST_BOX = {'n': 20, 'radius': 0.0002, 'spread': 0.3, 'boundary': 'box', 'viscosity': 10.0, 'normalModel': 'adamsPerchard',
+                     'tangentialModel': 'none', 'capillaryModel': 'none', 'surfaceTension': 0.0, 'liquidModel': 'fixed',
+                     'integration': 'implicit', 'speed': 0.5, 'seed': 5758}
+
+
+@pytest.mark.parametrize('spec', [RISING_FLOOR_FILMS, IMPLICIT_FAST_BOX], ids=['rising_floor_films', 'implicit_fast_box'])
+def test_balance_cases_close_by_a_consistent_measure(spec):
+    campaign.check(spec)
+
+
+# Open defect the campaign found (2026-12-03, seeds 3 and 5), kept as a strict xfail: it must start
+# passing when its cause is fixed, and then becomes a plain regression test.  A 0.2 mm sphere with a
+# Willett capillary bridge on a floor rising at 0.05 m/s (a kinematic boundary), explicit at the
+# collision step: the guard stops it at step 250 (kinetic + elastic 6 % above what was put in).
+# Without the capillary force, without the lift, or at 0.01 m/s it passes.  Suspected: the boundary
+# and capillary work are booked at other times than the energies (a second-order booking of the
+# boundary work and gravity was tried and failed on time steps that grow step by step).
+RISING_FLOOR_CAPILLARY = dict(DRY_BOUNCE, radius=0.0002, capillaryModel='willett', surfaceTension=0.0625, lift=0.05, seed=0)
+
+
+@pytest.mark.xfail(strict=True, reason='open defect: guard stop with a capillary bridge on a rising floor')
+def test_a_capillary_sphere_on_a_rising_floor_is_not_stopped():
+    campaign.check(RISING_FLOOR_CAPILLARY)
