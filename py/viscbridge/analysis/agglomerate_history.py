@@ -84,6 +84,7 @@ class AgglomerateHistory:
         four times spread over the record), (middle) the number of agglomerates, the largest and the
         mass-median size d50 over time, (right) breakage and coalescence events summed over time."""
         import matplotlib
+        import matplotlib.ticker
         matplotlib.use('Agg')
         import matplotlib.pyplot as plt
         if not self.rows:
@@ -126,6 +127,7 @@ class AgglomerateHistory:
         events.set_xlabel('time [s]')
         events.set_ylabel('agglomerates (summed since the start)')
         events.set_title('Coalescence and breakage')
+        events.yaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))  # counts
         events.legend(fontsize=8)
         if title:
             fig.suptitle(title, fontsize=10)
