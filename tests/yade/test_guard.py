@@ -83,6 +83,29 @@ def test_moving_wall_work_closes_the_energy_balance():
     assert abs(O.energy.total()) <= 0.01 * abs(E['boundaryWork']), E
 
 
+def sphere_on_turning_floor(rotationAxis):
+    mat = material()
+    floor = O.bodies.append(utils.wall(0, axis=2, material=mat))
+    O.bodies.append(utils.sphere((2 * R, 0, R * 1.001), R, material=mat))
+    turn = yw.RotationEngine(ids=[floor], rotationAxis=rotationAxis, angularVelocity=5.0, label='turnFloor')
+    O.engines = viscbridge.engines(viscosity=1.0, kinematic=[turn])
+    O.dt = 1e-7
+
+
+def test_a_wall_turned_about_an_axis_in_its_plane_is_refused_at_the_first_step(run_error):
+    """A YADE Wall cannot tilt: turned about x it would only give its contacts the velocity ω × r."""
+    sphere_on_turning_floor((1, 0, 0))
+    message = run_error(1)
+    assert O.iter <= 1 and message.startswith('Body #0 is a Wall'), message
+    assert "RotationEngine 'turnFloor'" in message and 'facets' in message and len(message) < 400
+
+
+def test_a_wall_turned_about_its_normal_is_a_turntable():
+    sphere_on_turning_floor((0, 0, 1))
+    O.run(200, True)
+    assert O.bodies[0].state.angVel[2] == pytest.approx(5.0)
+
+
 # --- the guard tells the truth --------------------------------------------------------------------
 def test_a_kick_between_runs_is_a_new_start_not_a_blow_up(bed):
     """Velocities changed by hand between two O.run() calls: the next run starts from them."""

@@ -9,6 +9,7 @@
 #include <pkg/common/Box.hpp>
 #include <pkg/common/ElastMat.hpp>
 #include <pkg/common/Facet.hpp>
+#include <pkg/common/KinematicEngines.hpp>
 #include <pkg/common/Sphere.hpp>
 #include <pkg/common/Wall.hpp>
 #include <pkg/dem/NewtonIntegrator.hpp>
@@ -47,6 +48,32 @@ namespace {
 		if (meetsTheLaw(b.shape.get()) && !(b.material && dynamic_cast<const FrictMat*>(b.material.get())))
 			throw std::invalid_argument(bodyName(b) + " has material " + (b.material ? b.material->getClassName() : std::string("None"))
 			                            + "; allowed with Ip2_FrictMat_FrictMat_ViscBridgePhys: FrictMat or a subclass of it.");
+	}
+
+	// A Wall is an infinite axis-aligned plane: it cannot tilt, so turning it about an axis that is not
+	// its normal moves nothing but the velocity YADE gives its contacts (ω × r, growing with the
+	// distance from the axis), which the bridges' viscous forces turn into energy.  About its normal
+	// it is a turntable, which is fine.
+	void validateTurningWalls(const Scene* scene)
+	{
+		auto refuse = [](const Body& b, const std::string& by) {
+			throw std::invalid_argument(bodyName(b) + " is a Wall (an infinite plane that cannot tilt) turned by " + by
+			                            + " about an axis other than its normal: its contacts would slide at ω × r without the plane moving; "
+			                              "turn facets instead (geom.facetBox, geom.facetCylinder), or turn the wall about its normal only.");
+		};
+		auto tilts = [](const Wall& w, const Vector3r& axis) { return axis.cross(Vector3r::Unit(w.axis)).norm() > 1e-9 * axis.norm(); };
+		const long n = static_cast<long>(scene->bodies->size());
+		for (const auto& e : scene->engines)
+			if (const auto* turn = dynamic_cast<const RotationEngine*>(e.get()))
+				for (const Body::id_t id : turn->ids) {
+					const shared_ptr<Body> b = id >= 0 && id < n ? (*scene->bodies)[id] : shared_ptr<Body>();
+					const auto* wall = b ? dynamic_cast<const Wall*>(b->shape.get()) : nullptr;
+					if (wall && tilts(*wall, turn->rotationAxis))
+						refuse(*b, turn->getClassName() + (turn->label.empty() ? std::string() : " '" + turn->label + "'"));
+				}
+		for (const auto& b : *scene->bodies)
+			if (const auto* wall = b ? dynamic_cast<const Wall*>(b->shape.get()) : nullptr; wall && b->state->angVel.norm() > 0 && tilts(*wall, b->state->angVel))
+				refuse(*b, "its angular velocity State.angVel");
 	}
 
 	void validateImplicit(const Scene* scene, const ViscBridgeFunctors& f, bool solverAfterLoop, bool newtonAfterSolver, const NewtonIntegrator* newton)
@@ -117,6 +144,7 @@ void validateScene(const Scene* scene, bool checkDt)
 	if (!f.ip2) return;
 	for (const auto& b : *scene->bodies)
 		if (b && b->shape && !distributed::isSubdomainBody(*b)) validateBody(*b); // [MPI] mpy's subdomains are not particles
+	validateTurningWalls(scene);
 	distributed::requireParticlesOnWorkers(scene);     // [MPI]
 	distributed::requireOneSubdomainWhenSerial(scene); // [MPI] e.g. a merged scene run on serially
 	if (f.law->integrationIndex != static_cast<int>(vb::Integration::implicitEuler)) return;
