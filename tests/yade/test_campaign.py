@@ -23,7 +23,7 @@ def test_random_scenes_keep_the_invariants(spec):
 # the kinetic energy of the half-step velocities with the elastic energy of the whole-step
 # positions; they differ by about F·v·Δt/2, first order in Δt (up to 15 % of the impact energy
 # mid-contact at 0.2 T_R), and the guard's 5 % margin stopped the run.  Fixed: the guard uses the
-# time-centred ½m v_{n−1/2}·v_{n+1/2} (physics.md E5).
+# smaller of ½m|v_{n−1/2}|² and ½m|v_{n+1/2}|² (physics.md E5).
 DRY_BOUNCE = {'n': 2, 'radius': 0.002, 'spread': 0.0, 'boundary': 'floor', 'viscosity': 1.0, 'normalModel': 'none',
               'tangentialModel': 'none', 'capillaryModel': 'none', 'surfaceTension': 0.0, 'liquidModel': 'fixed',
               'integration': 'explicit', 'speed': 0.0, 'seed': 136}

@@ -32,12 +32,14 @@ namespace {
 	}
 	// the bodies whose motion the energy sums follow: dynamic ones, with a clump for its members
 	bool counted(const Body& b) { return b.isDynamic() && !b.isClumpMember(); }
-	// The kinetic energy at the time of the positions (E5): ½m v_{n−1/2}·v_{n+1/2}, the leapfrog's
-	// time-centred product, with v_{n−1/2} recovered from the last step's force (still in the
-	// container: the guard runs before ForceResetter).  ½m|v_{n+1/2}|² alone is half a step late and
-	// differs from it by about F·v·Δt/2 — in a stiff contact more than the guard's margin.  Rotation,
-	// clumps and blocked degrees of freedom keep the plain form (no torque-to-spin map is needed).
-	Real centredKineticEnergy(const Body& b, Scene& scene, const Vector3r& gravity)
+	// The kinetic energy at the time of the positions (E5): of the two half-step velocities around
+	// them, v_{n−1/2} (recovered from the last step's force, still in the container: the guard runs
+	// before ForceResetter) and v_{n+1/2}, the smaller.  ½m|v_{n+1/2}|² alone is half a step late and,
+	// in a stiff contact at the collision step, exceeds the energy by up to F·v·Δt/2 (a false stop);
+	// the time-centred product v_{n−1/2}·v_{n+1/2} would be exact for a linear contact but goes
+	// negative in the sign-flipping blow-up of an explicit viscous step, which the guard must see.
+	// Rotation, clumps and blocked degrees of freedom keep the plain form.
+	Real kineticEnergyAtPositions(const Body& b, Scene& scene, const Vector3r& gravity)
 	{
 		const State& st = *b.state;
 		if (b.isClump() || !(st.mass > 0)) return bodyKineticEnergy(st);
@@ -45,7 +47,7 @@ namespace {
 		for (int axis = 0; axis < 3; ++axis)
 			if (st.blockedDOFs & State::axisDOF(axis, false)) acceleration[axis] = 0;
 		const Vector3r before = st.vel - acceleration * scene.dt;
-		return bodyKineticEnergy(st) - 0.5 * st.mass * st.vel.squaredNorm() + 0.5 * st.mass * st.vel.dot(before);
+		return bodyKineticEnergy(st) - 0.5 * st.mass * st.vel.squaredNorm() + 0.5 * st.mass * std::min(st.vel.squaredNorm(), before.squaredNorm());
 	}
 	using Clock = std::chrono::steady_clock;
 	std::string vec(const Vector3r& v)
@@ -104,10 +106,10 @@ Real ViscBridgeGuard::mechanicalEnergyNow() const
 {
 	const auto     own = distributed::ownership(scene); // [MPI] this rank's share, then the sum over ranks
 	const Vector3r g   = gravity();
-	scene->forces.sync(); // the last step's forces, for the time-centred kinetic energy
+	scene->forces.sync(); // the last step's forces, for the kinetic energy at the positions' time
 	Real e = storedElasticEnergy();
 	for (const auto& b : *scene->bodies)
-		if (b && counted(*b) && own.body(*b)) e += centredKineticEnergy(*b, *scene, g);
+		if (b && counted(*b) && own.body(*b)) e += kineticEnergyAtPositions(*b, *scene, g);
 	return distributed::sum(scene, e);
 }
 
@@ -199,7 +201,7 @@ void ViscBridgeGuard::checkEnergy()
 		if (!b || !counted(*b) || !own.body(*b)) continue;
 		const State& st = *b->state;
 		finite          = finite && st.pos.allFinite() && st.vel.allFinite() && st.angVel.allFinite();
-		kinetic += centredKineticEnergy(*b, *scene, g);
+		kinetic += kineticEnergyAtPositions(*b, *scene, g);
 		if (k < nStart) gravityWork += st.mass * g.dot(st.pos - startPos[k]);
 	}
 	// what moving bodies and capillary attraction (minus its booked work, P21) have put in
