@@ -59,3 +59,5 @@ def _check_plugin():
 
 if yade_version() is not None:
     _check_plugin()
+    from . import _attribute_types
+    _attribute_types.install()

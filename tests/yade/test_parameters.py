@@ -54,6 +54,29 @@ def test_attribute_rejected_in_constructor(cls, name, value, allowed):
         cls(**{name: value})
 
 
+WRONG_TYPES = [
+    (yw.Ip2_FrictMat_FrictMat_ViscBridgePhys, 'viscosity', '10', 'a number'),
+    (yw.Ip2_FrictMat_FrictMat_ViscBridgePhys, 'normalModel', 3, 'str'),
+    (yw.ViscBridgeTimeStepper, 'safety', [0.5], 'a number'),
+    (yw.ViscBridgeLiquid, 'minBridgeVolume', None, 'a number'),
+]
+
+
+@pytest.mark.parametrize('cls,name,value,expected', WRONG_TYPES, ids=lambda x: getattr(x, '__name__', str(x)))
+def test_a_wrong_type_names_the_attribute(cls, name, value, expected):
+    """Not Boost's "did not match C++ signature" / "No registered converter": the class, the
+    attribute, the value and what it takes (viscbridge/_attribute_types.py, installed on import)."""
+    obj = cls()
+    before = getattr(obj, name)
+    for attempt in (lambda: setattr(obj, name, value), lambda: cls(**{name: value})):
+        with pytest.raises(TypeError) as err:
+            attempt()
+        message = str(err.value)
+        assert message.startswith('%s.%s=%r has the wrong type' % (cls.__name__, name, value)) and 'expected ' + expected in message, message
+    assert getattr(obj, name) == before
+    assert getattr(cls(**{name: before}), name) == before  # the right type still passes
+
+
 # --- what can only be checked at the first step (ViscBridgeGuard, first engine) -------------------
 def small_scene(**kw):
     mat = material()
