@@ -153,3 +153,42 @@ def to_serial():
         if isinstance(e, ViscBridgeTimeStepper):
             e.reset()
     return moved
+
+
+def _merge_only_complete_runs(mp):
+    """Wrap ``mp.mpirun`` (once) so that a rank whose run stopped early raises instead of merging.
+
+    When every rank refuses the first step (a particle left to the master, a clump, a bad value),
+    YADE's O.run(n, True) re-raises the engine's exception on some ranks but can return normally on
+    another (its wait() misses an error thrown before it first polls).  That rank then went on into
+    mpirun's mergeScene() and waited for the others' bodies for ever, in about 1 run in 10.  Here it
+    sees the run is incomplete (O.iter short of its steps) and raises the same error the guard kept,
+    so every rank leaves mpirun."""
+    if getattr(mp.mpirun, '_viscbridge_merge_check', False):
+        return
+    original = mp.mpirun
+
+    def mpirun(nSteps, np=None, withMerge=False):
+        from yade import O
+        start, merge = O.iter, mp.mergeScene
+
+        def merge_after_a_complete_run():
+            if O.iter - start < nSteps:
+                import yade.wrapper as yw
+                kept = [e.lastError for e in O.engines if isinstance(e, yw.ViscBridgeGuard) and e.lastError]
+                raise RuntimeError(kept[0] if kept else 'the run stopped at step %d, %d steps short of the %d asked: not '
+                                   'merged' % (O.iter, start + nSteps - O.iter, nSteps))
+            merge()
+        mp.mergeScene = merge_after_a_complete_run
+        try:
+            return original(nSteps, np, withMerge)
+        finally:
+            mp.mergeScene = merge
+    mpirun.__doc__ = original.__doc__
+    mpirun._viscbridge_merge_check = True
+    mp.mpirun = mpirun
+
+
+if _launched_by_mpiexec():
+    from yade import mpy as _mp
+    _merge_only_complete_runs(_mp)
