@@ -24,11 +24,18 @@ CREATE_LOGGER(ViscBridgeGuard);
 
 namespace {
 	std::string fmt(Real v) { return viscbridge::formatValue(v); }
-	// translational + rotational; the inertia is given in the body's principal frame (clumps)
-	Real bodyKineticEnergy(const State& st)
+	// the inertia is given in the body's principal frame (clumps)
+	Real rotationalKineticEnergy(const State& st)
 	{
 		const Vector3r w = st.ori.conjugate() * st.angVel;
-		return 0.5 * st.mass * st.vel.squaredNorm() + 0.5 * w.dot(st.inertia.cwiseProduct(w));
+		return 0.5 * w.dot(st.inertia.cwiseProduct(w));
+	}
+	Real bodyKineticEnergy(const State& st) { return 0.5 * st.mass * st.vel.squaredNorm() + rotationalKineticEnergy(st); }
+	// 1 along the blocked translational (or rotational) axes of a body, 0 along the free ones
+	Vector3r blockedAxes(const State& st, bool rotational)
+	{
+		return Vector3r(st.blockedDOFs & State::axisDOF(0, rotational) ? 1 : 0, st.blockedDOFs & State::axisDOF(1, rotational) ? 1 : 0,
+		                st.blockedDOFs & State::axisDOF(2, rotational) ? 1 : 0);
 	}
 	// the bodies whose motion the energy sums follow: dynamic ones, with a clump for its members
 	bool counted(const Body& b) { return b.isDynamic() && !b.isClumpMember(); }
@@ -43,11 +50,10 @@ namespace {
 	{
 		const State& st = *b.state;
 		if (b.isClump() || !(st.mass > 0)) return bodyKineticEnergy(st);
-		Vector3r acceleration = scene.forces.getForce(b.getId()) / st.mass + gravity;
-		for (int axis = 0; axis < 3; ++axis)
-			if (st.blockedDOFs & State::axisDOF(axis, false)) acceleration[axis] = 0;
-		const Vector3r before = st.vel - acceleration * scene.dt;
-		return bodyKineticEnergy(st) - 0.5 * st.mass * st.vel.squaredNorm() + 0.5 * st.mass * std::min(st.vel.squaredNorm(), before.squaredNorm());
+		// a blocked axis keeps its velocity: no acceleration along it
+		const Vector3r acceleration = (scene.forces.getForce(b.getId()) / st.mass + gravity).cwiseProduct(Vector3r::Ones() - blockedAxes(st, false));
+		const Vector3r before       = st.vel - acceleration * scene.dt;
+		return 0.5 * st.mass * std::min(st.vel.squaredNorm(), before.squaredNorm()) + rotationalKineticEnergy(st);
 	}
 	using Clock = std::chrono::steady_clock;
 	std::string vec(const Vector3r& v)
@@ -170,11 +176,8 @@ void ViscBridgeGuard::accumulateBoundaryWork(bool newRun)
 		lastPos[id]          = b->state->pos;
 		// a blocked degree of freedom moves as prescribed whatever the force on it: along it the
 		// constraint does the work (all six for a wall; the blocked ones of a partly blocked sphere)
-		Vector3r force = scene->forces.getForce(id), torque = scene->forces.getTorque(id);
-		for (int axis = 0; axis < 3; ++axis) {
-			if (!(b->state->blockedDOFs & State::axisDOF(axis, false))) force[axis] = 0;
-			if (!(b->state->blockedDOFs & State::axisDOF(axis, true))) torque[axis] = 0;
-		}
+		const Vector3r force  = scene->forces.getForce(id).cwiseProduct(blockedAxes(*b->state, false));
+		const Vector3r torque = scene->forces.getTorque(id).cwiseProduct(blockedAxes(*b->state, true));
 		if (moved.allFinite()) delivered -= force.dot(moved); // NaN: first call
 		delivered -= torque.dot(b->state->angVel) * scene->dt;
 	}

@@ -30,6 +30,19 @@ namespace {
 		return dynamic_cast<const Sphere*>(s) || dynamic_cast<const Wall*>(s) || dynamic_cast<const Facet*>(s) || dynamic_cast<const Box*>(s);
 	}
 
+	// A Wall is an infinite axis-aligned plane: it cannot tilt, so turning it about an axis that is not
+	// its normal moves nothing but the velocity YADE gives its contacts (ω × r, growing with the
+	// distance from the axis), which the bridges' viscous forces turn into energy.  About its normal
+	// it is a turntable, which is fine.
+	void refuseTiltingWall(const Body& b, const Vector3r& axis, const std::string& by)
+	{
+		const auto* wall = dynamic_cast<const Wall*>(b.shape.get());
+		if (!wall || !(axis.cross(Vector3r::Unit(wall->axis)).norm() > 1e-9 * axis.norm())) return;
+		throw std::invalid_argument(bodyName(b) + " is a Wall (an infinite plane that cannot tilt) turned by " + by
+		                            + " about an axis other than its normal: its contacts would slide at ω × r without the plane moving; "
+		                              "turn facets instead (geom.facetBox, geom.facetCylinder), or turn the wall about its normal only.");
+	}
+
 	void validateBody(const Body& b)
 	{
 		if (const auto* s = dynamic_cast<const Sphere*>(b.shape.get()))
@@ -45,35 +58,20 @@ namespace {
 				throw std::invalid_argument(bodyName(b) + ": State.inertia has a component " + vb::formatValue(st.inertia.minCoeff())
 				                            + "; allowed: > 0 (finite) [kg·m²] for a dynamic body.");
 		}
+		if (b.state->angVel.norm() > 0) refuseTiltingWall(b, b.state->angVel, "its angular velocity State.angVel");
 		if (meetsTheLaw(b.shape.get()) && !(b.material && dynamic_cast<const FrictMat*>(b.material.get())))
 			throw std::invalid_argument(bodyName(b) + " has material " + (b.material ? b.material->getClassName() : std::string("None"))
 			                            + "; allowed with Ip2_FrictMat_FrictMat_ViscBridgePhys: FrictMat or a subclass of it.");
 	}
 
-	// A Wall is an infinite axis-aligned plane: it cannot tilt, so turning it about an axis that is not
-	// its normal moves nothing but the velocity YADE gives its contacts (ω × r, growing with the
-	// distance from the axis), which the bridges' viscous forces turn into energy.  About its normal
-	// it is a turntable, which is fine.
 	void validateTurningWalls(const Scene* scene)
 	{
-		auto refuse = [](const Body& b, const std::string& by) {
-			throw std::invalid_argument(bodyName(b) + " is a Wall (an infinite plane that cannot tilt) turned by " + by
-			                            + " about an axis other than its normal: its contacts would slide at ω × r without the plane moving; "
-			                              "turn facets instead (geom.facetBox, geom.facetCylinder), or turn the wall about its normal only.");
-		};
-		auto tilts = [](const Wall& w, const Vector3r& axis) { return axis.cross(Vector3r::Unit(w.axis)).norm() > 1e-9 * axis.norm(); };
 		const long n = static_cast<long>(scene->bodies->size());
 		for (const auto& e : scene->engines)
 			if (const auto* turn = dynamic_cast<const RotationEngine*>(e.get()))
-				for (const Body::id_t id : turn->ids) {
-					const shared_ptr<Body> b = id >= 0 && id < n ? (*scene->bodies)[id] : shared_ptr<Body>();
-					const auto* wall = b ? dynamic_cast<const Wall*>(b->shape.get()) : nullptr;
-					if (wall && tilts(*wall, turn->rotationAxis))
-						refuse(*b, turn->getClassName() + (turn->label.empty() ? std::string() : " '" + turn->label + "'"));
-				}
-		for (const auto& b : *scene->bodies)
-			if (const auto* wall = b ? dynamic_cast<const Wall*>(b->shape.get()) : nullptr; wall && b->state->angVel.norm() > 0 && tilts(*wall, b->state->angVel))
-				refuse(*b, "its angular velocity State.angVel");
+				for (const Body::id_t id : turn->ids)
+					if (const shared_ptr<Body> b = id >= 0 && id < n ? (*scene->bodies)[id] : shared_ptr<Body>())
+						refuseTiltingWall(*b, turn->rotationAxis, turn->getClassName() + (turn->label.empty() ? std::string() : " '" + turn->label + "'"));
 	}
 
 	void validateImplicit(const Scene* scene, const ViscBridgeFunctors& f, bool solverAfterLoop, bool newtonAfterSolver, const NewtonIntegrator* newton)

@@ -7,8 +7,9 @@ it and how much (`wetFraction`, `filmRel`) and the least liquid a bridge forms f
 (`minBridgeRel`); whether the drum wall wets (`wetWalls`); and the time a bridge takes to be pulled
 apart, t_pull ≈ (9/8)·μ/(ρ g r)·ln(S_rup/S_min), against the time of a revolution.  Defaults: dry
 walls, 15 % of the spheres wetted with 2 % of their volume, bridges of 0.2–1 % of a particle's
-volume, μ = 1 Pa·s with 1 mm spheres (t_pull ≈ 0.3 s, a revolution 1.1 s), Fr = 0.05 — the bed
-cascades, agglomerates grow where wet particles meet and break where the flow pulls them apart.
+volume, μ = 1 Pa·s with 1 mm spheres (t_pull ≈ 0.3 s, a revolution 1.3 s in the default drum),
+Fr = 0.05 — the bed cascades, agglomerates grow where wet particles meet and break where the flow
+pulls them apart.
 A wetted drum wall at these viscosities carries the whole bed round as one rigid lump.
 """
 import math
