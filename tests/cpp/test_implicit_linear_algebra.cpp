@@ -254,13 +254,14 @@ TEST(ImplicitLinearAlgebra, BlockCholeskyWorkOfADenseSystem)
 }
 
 // A small network: a cluster of spheres with random bridges, one wall (prescribed), one sphere
-// with its z translation blocked.
+// with its z translation blocked, and one clump-like body with a full inertia tensor and its y
+// rotation blocked (its tensor couples the blocked rotation to the free ones).
 ImplicitViscousSystem randomSystem(std::mt19937& g, int spheres, double dt)
 {
 	std::vector<SystemBody> bodies(spheres + 1);
 	for (int i = 0; i < spheres; ++i) {
 		bodies[i].mass    = uniform(g, 0.5, 2);
-		bodies[i].inertia = 0.1 * bodies[i].mass;
+		bodies[i].inertia = 0.1 * bodies[i].mass * Mat3::Identity();
 		bodies[i].vel     = randomVec(g, 1.0);
 		bodies[i].angVel  = randomVec(g, 1.0);
 		bodies[i].force   = randomVec(g, 1.0);
@@ -268,6 +269,9 @@ ImplicitViscousSystem randomSystem(std::mt19937& g, int spheres, double dt)
 		bodies[i].free.fill(true);
 	}
 	bodies[1].free[2]    = false; // a blocked DOF keeps its velocity
+	const Mat3 turn      = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+	bodies[2].inertia    = turn * Vec3(0.05, 0.2, 0.3).asDiagonal() * turn.transpose();
+	bodies[2].free[4]    = false;
 	bodies[spheres].vel  = Vec3(0.3, 0, 0); // the wall, moving
 	std::vector<SystemBridge> bridges;
 	for (int i = 0; i < spheres; ++i)

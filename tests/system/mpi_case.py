@@ -10,6 +10,7 @@ ranks, the initial kinetic energy and the bridges.  Options (after OUT):
   --no-guard      without ViscBridgeGuard
   --mismatch      run 5 steps, then give rank 1 twice the dt and run on (must be refused)
   --no-decompose  leave every particle to the master (must be refused)
+  --clump         add a clump of two wet spheres to worker 1 (must be refused: mpy has no clumps)
   --events        the test engine ViscBridgeEventCounter after the interaction loop (its counts per rank)
   --save FILE     rank 0 saves the merged scene at the end
   --load FILE     serially: load FILE (saved by --save), try a step (refused), viscbridge.mpi.to_serial(), run
@@ -37,6 +38,7 @@ ap.add_argument('--rayleigh-fraction', type=float, default=None)
 ap.add_argument('--no-guard', action='store_true')
 ap.add_argument('--mismatch', action='store_true')
 ap.add_argument('--no-decompose', action='store_true')
+ap.add_argument('--clump', action='store_true')
 ap.add_argument('--events', action='store_true')
 ap.add_argument('--save', default=None)
 ap.add_argument('--load', default=None)
@@ -67,6 +69,13 @@ def build():
         O.engines = O.engines[:loop + 1] + [yw.ViscBridgeEventCounter(label='eventCounter')] + O.engines[loop + 1:]
     if not args.no_decompose:
         viscbridge.mpi.decompose(axis=0)
+    if args.clump:
+        mat = O.bodies[-1].material
+        top = max(b.state.pos[2] for b in O.bodies if isinstance(b.shape, yw.Sphere)) + 1e-3
+        O.bodies.appendClumped([utils.sphere((1e-3, 1e-3, top), 2e-4, material=mat), utils.sphere((1.4e-3, 1e-3, top), 2e-4, material=mat)])
+        for b in O.bodies:
+            if b.isClump or b.isClumpMember:
+                b.subdomain = 1
     O.engines = O.engines + [yw.PyRunner(iterPeriod=1, initRun=True, command='DTS.append(O.dt)', label='dtRecorder')]
 
 

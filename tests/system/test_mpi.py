@@ -213,6 +213,20 @@ def test_particles_left_to_the_master_are_refused():
         assert 'viscbridge.mpi.decompose()' in results[0]['error']
 
 
+@pytest.mark.parametrize('integration', ['explicit', 'implicit'])
+def test_a_clump_is_refused_on_every_rank(integration):
+    """mpy has no notion of a clump: a scene with one stops at its first step on every rank, saying
+    so and what to do — 5 times in a row, none hanging (serially, both schemes take clumps:
+    tests/yade/test_clumps_implicit.py)."""
+    for attempt in range(5):
+        _cache.clear()
+        results = run_case_stopping_at_the_first_step(2, '--clump', '--integration', integration, '--steps', '20')
+        for r in results:
+            assert r['iter'] == 0 and r['error'] == results[0]['error'], (attempt, results)
+        assert 'is a clump, and yade.mpy distributes bodies one by one' in results[0]['error']
+        assert 'in one process' in results[0]['error']
+
+
 def test_merged_scene_saved_and_run_on_serially(tmp_path):
     """150 steps on 3 ranks, merged and saved; loaded in one process the scene is refused (its
     particles belong to subdomains 1 and 2, which YADE's NewtonIntegrator would never move) until

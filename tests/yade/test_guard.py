@@ -179,24 +179,3 @@ def test_clumps_are_accepted_with_explicit_integration():
     O.run(3000, True)
     assert guard().lastError == '' and guard().checks > 100
     assert all(math.isfinite(c) for b in O.bodies for c in b.state.pos)
-
-
-def test_clumps_are_refused_before_the_first_implicit_step(run_error):
-    mat = material()
-    O.bodies.append(utils.wall(0, axis=2, material=mat))
-    O.bodies.appendClumped([utils.sphere((0, 0, 1.001 * R), R, material=mat), utils.sphere((0, 1.5 * R, 1.001 * R), R, material=mat)])
-    O.engines = viscbridge.engines(viscosity=1.0, integration='implicit')
-    O.dt = 1e-6
-    msg = run_error(10)
-    assert 'is a clump' in msg and "integration='explicit'" in msg
-    assert O.iter == 0
-
-
-def test_the_implicit_solver_refuses_clumps_without_a_guard(run_error):
-    mat = material()
-    O.bodies.append(utils.wall(0, axis=2, material=mat))
-    O.bodies.appendClumped([utils.sphere((0, 0, 0.999 * R), R, material=mat), utils.sphere((0, 1.5 * R, 0.999 * R), R, material=mat)])
-    O.engines = viscbridge.engines(viscosity=1.0, integration='implicit', guard=False)
-    O.dt = 1e-6
-    assert 'clump' in run_error(10)
-    assert all(b.state.pos[2] < 2 * R for b in O.bodies if b.isClumpMember)  # nothing flew off

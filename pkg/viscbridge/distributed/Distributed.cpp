@@ -353,6 +353,18 @@ namespace distributed {
 #endif
 	}
 
+	void refuseClumps(const Scene* scene)
+	{
+		if (!active(scene)) return;
+		for (const auto& b : *scene->bodies)
+			if (b && b->isClump())
+				throw std::invalid_argument("Body #" + std::to_string(b->getId())
+				                            + " is a clump, and yade.mpy distributes bodies one by one: it has no notion of a clump (a clump has "
+				                              "no bound, so it never enters a subdomain's intersections), and its members' copies on a neighbouring "
+				                              "rank would not follow it. Run scenes with clumps in one process (OpenMP threads, -j), both schemes "
+				                              "take clumps there.");
+	}
+
 	void requireOneSubdomainWhenSerial(const Scene* scene)
 	{
 #ifdef YADE_MPI

@@ -95,6 +95,11 @@ namespace distributed {
 	// be frozen for their neighbours on the workers, or, if all stay there, the run is serial.
 	void requireParticlesOnWorkers(const Scene* scene);
 
+	// Split by yade.mpy: std::invalid_argument if the scene has a clump.  mpy assigns, sends and
+	// mirrors bodies one by one and has no notion of a clump (a clump has no bound, so it is never in
+	// a subdomain's intersections): its members' copies on a neighbour would not follow it.
+	void refuseClumps(const Scene* scene);
+
 	// When the scene is not split (serial, or merged by mpy.mergeScene()): std::invalid_argument if a
 	// moving body belongs to another subdomain than the scene's, since NewtonIntegrator (built with
 	// MPI) never moves such a body: a merged scene continued serially would silently freeze.

@@ -55,7 +55,7 @@ public:
 		"other shapes are left alone); :yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous` and "
 		":yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys` come together; 'implicit' integration has "
 		":yref:`ViscBridgeImplicitSolver`, an undamped :yref:`NewtonIntegrator`, a dissipative "
-		"tangential model and no clumps; O.dt > 0. Problems raise an exception naming the parameter, "
+		"tangential model; O.dt > 0. Problems raise an exception naming the parameter, "
 		"its value and what is allowed.\n\n"
 		"Every iterPeriod steps it stops the run (raising an exception, so ``O.run(n, True)`` reports it) "
 		"on a NaN or inf position or velocity, or when the kinetic plus elastic energy exceeds what the "

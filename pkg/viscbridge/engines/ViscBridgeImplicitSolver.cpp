@@ -5,6 +5,7 @@
 #include "viscbridge/core/linalg/ImplicitViscousSystem.hpp"
 #include "viscbridge/core/util/Validation.hpp"
 #include "viscbridge/scene/SceneValidation.hpp"
+#include <core/Clump.hpp>
 #include <core/Scene.hpp>
 #include <pkg/dem/NewtonIntegrator.hpp>
 #include <pkg/dem/ScGeom.hpp>
@@ -118,8 +119,9 @@ const NewtonIntegrator& ViscBridgeImplicitSolver::checkScene()
 }
 
 // The bridges the law described this step, and the bodies they touch with every other force of the
-// step (gravity included, as Newton will add it).  The scans run on all threads; every list comes
-// out in the same order as from one thread.
+// step (gravity included, as Newton will add it).  A clump stands for its members: its six
+// velocities are the unknowns, and a member's bridge acts on it at the member's centre (P15a).
+// The scans run on all threads; every list comes out in the same order as from one thread.
 ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const NewtonIntegrator& newton)
 {
 	scene->forces.sync();
@@ -127,7 +129,7 @@ ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const Newton
 	describedBridges(g);
 	touched.assign(scene->bodies->size(), -1);
 	for (const auto& [id1, id2] : g.ends)
-		touched[id1] = touched[id2] = 0;
+		touched[moving(id1)] = touched[moving(id2)] = 0;
 	for (Body::id_t id = 0; id < static_cast<Body::id_t>(touched.size()); ++id)
 		if (touched[id] >= 0) {
 			touched[id] = static_cast<int>(g.ids.size());
@@ -137,15 +139,12 @@ ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const Newton
 	g.bodies.resize(nBodies);
 	g.system.resize(nBridges);
 	g.pattern.resize(nBodies + nBridges);
-	const auto own     = distributed::ownership(scene); // [MPI] a rank solves for its own bodies
-	long       clumped = std::numeric_limits<long>::max(); // the first clump member, if any
+	const auto own = distributed::ownership(scene); // [MPI] a rank solves for its own bodies
 #pragma omp parallel
 	{
-#pragma omp for schedule(static) reduction(min : clumped)
+#pragma omp for schedule(static)
 		for (long i = 0; i < nBodies; ++i) {
-			const Body& b = *Body::byId(g.ids[i], scene);
-			if (b.isClumpMember()) clumped = std::min<long>(clumped, b.id);
-			g.bodies[i]   = systemBody(b, own.body(b), newton.gravity);
+			g.bodies[i]   = systemBody(*Body::byId(g.ids[i], scene), own, newton);
 			long freeBits = 0;
 			for (int d = 0; d < 6; ++d)
 				freeBits |= g.bodies[i].free[d] ? (1L << d) : 0;
@@ -154,18 +153,30 @@ ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const Newton
 #pragma omp for schedule(static)
 		for (long k = 0; k < nBridges; ++k) {
 			vb::SystemBridge& c = g.system[k];
-			c.body1             = touched[g.ends[k][0]];
-			c.body2             = touched[g.ends[k][1]];
+			c.body1             = touched[moving(g.ends[k][0])];
+			c.body2             = touched[moving(g.ends[k][1])];
 			c.block             = g.owners[k]->implicitBlock;
+			c.block.r1 += armInClump(g.ends[k][0]);
+			c.block.r2 += armInClump(g.ends[k][1]);
 			c.shiftVel          = scene->isPeriodic ? Vector3r(scene->cell->intrShiftVel(g.described[k]->cellDist)) : Vector3r::Zero();
 			g.pattern[nBodies + k] = -(static_cast<long>(std::min(c.body1, c.body2)) * (1L << 31) + std::max(c.body1, c.body2)) - 1;
 		}
 	}
-	if (clumped != std::numeric_limits<long>::max())
-		throw std::invalid_argument("ViscBridgeImplicitSolver: body #" + std::to_string(clumped) + " is a member of clump #"
-		                            + std::to_string(Body::byId(clumped, scene)->clumpId)
-		                            + ", and clumps are not integrated implicitly (a member moves with its clump); use integration='explicit' for scenes with clumps.");
 	return g;
+}
+
+// The body whose velocities move body `id`: its clump for a clump member, else itself.
+Body::id_t ViscBridgeImplicitSolver::moving(Body::id_t id) const
+{
+	const Body& b = *Body::byId(id, scene);
+	return b.isClumpMember() ? b.clumpId : id;
+}
+
+// From the centre of the body that moves body `id` to body id's centre (0 unless a clump member).
+Vector3r ViscBridgeImplicitSolver::armInClump(Body::id_t id) const
+{
+	const Body& b = *Body::byId(id, scene);
+	return b.isClumpMember() ? Vector3r(b.state->pos - Body::byId(b.clumpId, scene)->state->pos) : Vector3r::Zero();
 }
 
 // The bridges the law described this step, in the interactions' order: tested on all threads
@@ -193,24 +204,37 @@ void ViscBridgeImplicitSolver::describedBridges(Gathered& g) const
 		}
 }
 
-vb::SystemBody ViscBridgeImplicitSolver::systemBody(const Body& b, bool owned, const Vector3r& gravity) const
+vb::SystemBody ViscBridgeImplicitSolver::systemBody(const Body& b, const distributed::Ownership& own, const NewtonIntegrator& newton) const
 {
 	const State&   st = *b.state;
 	vb::SystemBody sb;
 	sb.mass    = st.mass;
-	sb.inertia = st.inertia[0];
+	sb.inertia = rotationalInertia(b, newton);
 	sb.vel     = st.vel;
 	sb.angVel  = st.angVel;
-	const bool moves = b.isDynamic() && st.mass > 0 && owned; // [MPI] other ranks' bodies: ghosts (prescribed here)
+	const bool moves = b.isDynamic() && st.mass > 0 && own.body(b); // [MPI] other ranks' bodies: ghosts (prescribed here)
 	for (int d = 0; d < 6; ++d)
 		sb.free[d] = moves && !(st.blockedDOFs & State::axisDOF(d % 3, d >= 3));
 	if (moves) {
 		sb.force  = scene->forces.getForce(b.id);
 		sb.torque = scene->forces.getTorque(b.id);
+		if (b.isClump()) b.shape->cast<Clump>().addForceTorqueFromMembers(&st, scene, sb.force, sb.torque); // as Newton sums them
 		for (int d = 0; d < 3; ++d)
-			if (sb.free[d]) sb.force[d] += st.mass * gravity[d]; // Newton adds gravity to unblocked components
+			if (sb.free[d]) sb.force[d] += st.mass * newton.gravity[d]; // Newton adds gravity to unblocked components
 	}
 	return sb;
+}
+
+// The inertia tensor Newton's rotation update applies, in the global frame: the principal one turned
+// by the orientation where Newton integrates an aspherical body (a clump) exactly; otherwise Newton
+// divides the torque by the principal moments component by component (a sphere: I·1).
+Matrix3r ViscBridgeImplicitSolver::rotationalInertia(const Body& b, const NewtonIntegrator& newton)
+{
+	const State& st         = *b.state;
+	const bool   aspherical = newton.exactAsphericalRot && b.isAspherical() && (st.blockedDOFs & State::DOF_RXRYRZ) == State::DOF_NONE;
+	if (!aspherical) return st.inertia.asDiagonal();
+	const Matrix3r turn = st.ori.toRotationMatrix();
+	return turn * st.inertia.asDiagonal() * turn.transpose();
 }
 
 // The velocities last step's viscous forces would give now (else the current ones).
@@ -221,7 +245,7 @@ Eigen::VectorXd ViscBridgeImplicitSolver::warmStartGuess(const vb::ImplicitVisco
 	for (size_t i = 0; i < ids.size(); ++i) {
 		const vb::SystemBody& b = sys.bodies()[i];
 		if (b.mass > 0) x.segment<3>(6 * i) += scene->dt * (b.force + lastViscousForce[ids[i]]) / b.mass;
-		if (b.inertia > 0) x.segment<3>(6 * i + 3) += scene->dt * (b.torque + lastViscousTorque[ids[i]]) / b.inertia;
+		if (b.inertia.trace() > 0) x.segment<3>(6 * i + 3) += scene->dt * b.inertia.ldlt().solve(b.torque + lastViscousTorque[ids[i]]);
 	}
 	return x;
 }
@@ -314,9 +338,10 @@ void ViscBridgeImplicitSolver::applyForces(const vb::ImplicitViscousSystem& sys,
 		sys.resultantOn(i, R, f, t);
 		f = -f, t = -t;
 		if (warmStart) lastViscousForce[ids[i]] = f, lastViscousTorque[ids[i]] = t;
+		const Vector3r momentChange = b.inertia * (x.segment<3>(6 * i + 3) - b.angVel);
 		for (int d = 0; d < 3; ++d) {
 			if (b.free[d]) f[d] = b.mass * (x[6 * i + d] - b.vel[d]) / dt - b.force[d];
-			if (b.free[d + 3]) t[d] = b.inertia * (x[6 * i + 3 + d] - b.angVel[d]) / dt - b.torque[d];
+			if (b.free[d + 3]) t[d] = momentChange[d] / dt - b.torque[d];
 		}
 		scene->forces.addForce(ids[i], f);
 		scene->forces.addTorque(ids[i], t);

@@ -13,6 +13,9 @@ namespace yade {
 
 class NewtonIntegrator;
 class ViscBridgePhys;
+namespace distributed {
+	struct Ownership;
+}
 
 class ViscBridgeImplicitSolver : public GlobalEngine {
 	std::vector<Vector3r> lastViscousForce, lastViscousTorque; // per body id, for the warm start
@@ -34,7 +37,10 @@ class ViscBridgeImplicitSolver : public GlobalEngine {
 	void                          bookPendingWork();
 	Gathered                      gather(const NewtonIntegrator& newton);
 	void                          describedBridges(Gathered& g) const;
-	viscbridge::SystemBody        systemBody(const Body& b, bool owned, const Vector3r& gravity) const;
+	viscbridge::SystemBody        systemBody(const Body& b, const distributed::Ownership& own, const NewtonIntegrator& newton) const;
+	static Matrix3r               rotationalInertia(const Body& b, const NewtonIntegrator& newton);
+	Body::id_t                    moving(Body::id_t id) const;
+	Vector3r                      armInClump(Body::id_t id) const;
 	std::vector<int>              touched; // workspace of gather(): per body id, its index in the system (−1: none)
 	// workspace of describedBridges(): per interaction, its physics if it is a bridge described this step, and its bodies
 	mutable std::vector<ViscBridgePhys*>           bridgeOf;
@@ -60,6 +66,10 @@ public:
 		":yref:`NewtonIntegrator` lands exactly on the implicit velocities. Backward Euler is "
 		"unconditionally stable for the viscous part: the time step is left to the contact stiffness "
 		"(:yref:`ViscBridgeTimeStepper` drops its viscous bound). First order in $\\Delta t$.\n\n"
+		"A clump is one body of the system: its six velocities are the unknowns, its members' bridges act "
+		"on it at the members' centres, and its inertia is the tensor :yref:`NewtonIntegrator` rotates it "
+		"with (the principal moments turned to the global frame), so non-spherical granules built with "
+		"``O.bodies.appendClumped`` keep the implicit scheme's stability.\n\n"
 		"Needs :yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous.integration` = 'implicit' (the law then "
 		"describes its bridges' damping instead of applying the forces), a dissipative tangential "
 		"model ('none', 'slip' or 'goldman'; 'washino' is not dissipative and is refused), and "

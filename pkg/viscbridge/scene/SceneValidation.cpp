@@ -89,10 +89,6 @@ namespace {
 			                            + "' is not dissipative (physics.md P7) and cannot be integrated implicitly; allowed with integration='implicit': "
 			                            + allowed + ".");
 		}
-		for (const auto& b : *scene->bodies)
-			if (b && b->isClump())
-				throw std::invalid_argument(bodyName(*b) + " is a clump: ViscBridgeImplicitSolver does not integrate clumps (their members move "
-				                            "with the clump, not on their own velocities); use integration='explicit' for scenes with clumps.");
 	}
 }
 
@@ -144,6 +140,7 @@ void validateScene(const Scene* scene, bool checkDt)
 		if (b && b->shape && !distributed::isSubdomainBody(*b)) validateBody(*b); // [MPI] mpy's subdomains are not particles
 	validateTurningWalls(scene);
 	distributed::requireParticlesOnWorkers(scene);     // [MPI]
+	distributed::refuseClumps(scene);                  // [MPI]
 	distributed::requireOneSubdomainWhenSerial(scene); // [MPI] e.g. a merged scene run on serially
 	if (f.law->integrationIndex != static_cast<int>(vb::Integration::implicitEuler)) return;
 	bool                    seenLoop = false, solverAfterLoop = false, newtonAfterSolver = false;

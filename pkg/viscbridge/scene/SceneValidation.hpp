@@ -24,7 +24,7 @@ size_t sceneSignature(const Scene* scene);
 // Throws std::invalid_argument (a Python ValueError) naming the offending parameter or body.
 //   - engines: Law2_ScGeom_ViscBridgePhys_HertzViscous and Ip2_FrictMat_FrictMat_ViscBridgePhys
 //     come together; 'implicit' has ViscBridgeImplicitSolver between InteractionLoop and
-//     NewtonIntegrator, an undamped integrator, a dissipative tangential model and no clumps;
+//     NewtonIntegrator, an undamped integrator and a dissipative tangential model;
 //   - bodies: spheres have a finite radius > 0, dynamic bodies a finite mass > 0, and every body
 //     the law can meet (sphere, wall, facet, box) a FrictMat;
 //   - with checkDt, O.dt > 0.

@@ -29,7 +29,8 @@ using Mat3 = Eigen::Matrix<double, 3, 3>;
 
 // A body of the system: 6 velocity unknowns (v, ω), each free or prescribed.
 struct SystemBody {
-	double              mass = 0, inertia = 0; // sphere: scalar moment of inertia
+	double              mass    = 0;
+	Mat3                inertia = Mat3::Zero(); // rotational inertia in the global frame (a sphere: I·1; a clump: R diag(I) Rᵀ)
 	Vec3                vel = Vec3::Zero(), angVel = Vec3::Zero();
 	Vec3                force = Vec3::Zero(), torque = Vec3::Zero(); // every other force, gravity included
 	std::array<bool, 6> free {}; // false: the component keeps its current value (walls, fixed, blocked DOFs)
@@ -220,7 +221,7 @@ public:
 			if (isFree(d)) f.mask[d] = 1;
 			else if (others[d] == 0) f.prescribed[d] = current[d];
 		}
-		f.rhs = (rightHandSide() - prescribedLoad(f.prescribed)).cwiseProduct(f.mask);
+		f.rhs = (rightHandSide() - prescribedLoad(f.prescribed) - inertialLoad(f.prescribed)).cwiseProduct(f.mask);
 		return f;
 	}
 
@@ -239,6 +240,16 @@ public:
 			y.segment<3>(6 * c.body2) += dt_ * R.force2;
 			y.segment<3>(6 * c.body2 + 3) += dt_ * R.torque2;
 		}
+		return y;
+	}
+
+	// M (prescribed): a full inertia tensor couples a blocked rotation to the free ones (a sphere's
+	// or a diagonal tensor does not, and this is zero there).
+	VecXd inertialLoad(const VecXd& prescribed) const
+	{
+		VecXd y(size());
+		for (size_t i = 0; i < bodies_.size(); ++i)
+			y.segment<6>(6 * i) << bodies_[i].mass * prescribed.segment<3>(6 * i), bodies_[i].inertia * prescribed.segment<3>(6 * i + 3);
 		return y;
 	}
 
@@ -410,7 +421,8 @@ private:
 	Mat6 massBlock(size_t i) const
 	{
 		Mat6 m = Mat6::Zero();
-		m.diagonal() << Vec3::Constant(bodies_[i].mass), Vec3::Constant(bodies_[i].inertia);
+		m.diagonal().head<3>().setConstant(bodies_[i].mass);
+		m.bottomRightCorner<3, 3>() = bodies_[i].inertia;
 		return m;
 	}
 
