@@ -179,3 +179,29 @@ def test_clumps_are_accepted_with_explicit_integration():
     O.run(3000, True)
     assert guard().lastError == '' and guard().checks > 100
     assert all(math.isfinite(c) for b in O.bodies for c in b.state.pos)
+
+
+@pytest.mark.parametrize('dt', [1e-3, 1e-5])
+def test_advice_counts_the_bridge_that_ruptured_before_the_diagnosis(dt, run_error):
+    """A sphere resting in a bridge on a wall at a far too large dt: the blow-up tears the bridge
+    apart within the 10 steps between two checks, so at the diagnosis no contact is left to bound
+    dt.  The advised dt still counts the ruptured bridge — it is below that bridge's explicit limit
+    2m*/C(S_min) (P12) — and a run at the advised dt goes on without a stop."""
+    def scene(step):
+        O.reset()
+        mat = material()
+        O.bodies.append([utils.wall(0, axis=2, material=mat), utils.sphere((0, 0, 0.9999 * R), R, material=mat)])
+        O.engines = viscbridge.engines(viscosity=1.0, timeStepper=False)
+        O.dt = step
+    scene(dt)
+    O.run(1, True)
+    bridge = O.interactions[0, 1].phys
+    pair_limit = 2 * bridge.mEff / bridge.viscousStepCoefficient
+    msg = run_error(2000)
+    assert not any(i.isReal for i in O.interactions)  # the bridge is gone at the diagnosis
+    safe = float(re.search(r'A safe dt for the current contacts: ([0-9.e+-]+) s \(half the rigorous bound P14, counting the bridges '
+                           r'ruptured since the last check;', msg).group(1))
+    assert safe <= 0.5 * pair_limit * 1.001
+    scene(safe)
+    O.run(20000, True)
+    assert guard().lastError == '' and O.interactions[0, 1].phys.bridge

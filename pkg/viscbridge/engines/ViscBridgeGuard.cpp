@@ -121,6 +121,7 @@ Real ViscBridgeGuard::mechanicalEnergyNow() const
 
 void ViscBridgeGuard::takeReference(Real slack)
 {
+	ruptured.clear();
 	startPos.assign(scene->bodies->size(), Vector3r::Zero());
 	for (const auto& b : *scene->bodies)
 		if (b) startPos[b->getId()] = b->state->pos;
@@ -223,6 +224,7 @@ void ViscBridgeGuard::checkEnergy()
 	}
 	if (finite && what.empty()) {
 		lastSlack = std::max<Real>(0, energyIn - mechanical); // carried over when the next run takes a new reference
+		ruptured.clear();
 		return;
 	}
 	// the body with a NaN/inf, else the one with the most kinetic energy
@@ -249,6 +251,30 @@ void ViscBridgeGuard::checkEnergy()
 	throw std::runtime_error(lastError);
 }
 
+// The last step's ruptures (the law published them in the step before this call).
+void ViscBridgeGuard::collectRuptures()
+{
+	for (const BridgeEvent& e : ViscBridgeContext::of(scene).events(scene->iter - 1))
+		if (e.kind == BridgeEvent::Kind::ruptured)
+			for (const Body::id_t id : { e.id1, e.id2 })
+				ruptured.push_back({ id, e.dampingRate, e.stiffnessRate });
+}
+
+// P14 of the bodies whose bridges ruptured since the last check that passed, as if those bridges
+// were still there: the state in which the run was last healthy bounds the advice too.
+void ViscBridgeGuard::boundWithRuptured(bool implicit)
+{
+	std::vector<Real> damping(scene->bodies->size(), 0), stiffness(scene->bodies->size(), 0);
+	for (const Ruptured& r : ruptured) {
+		const shared_ptr<Body>& b = Body::byId(r.id, scene);
+		if (!b || !b->isDynamic() || !(b->state->mass > 0) || 3 * static_cast<size_t>(r.id) >= bound.summed.size()) continue;
+		damping[r.id] += implicit ? 0 : r.damping;
+		stiffness[r.id] += r.stiffness;
+		const Real limit = bound.bodyLimit(r.id, damping[r.id], stiffness[r.id]);
+		if (limit < bound.combined) bound.combined = limit, bound.criticalBody = r.id;
+	}
+}
+
 std::string ViscBridgeGuard::safeStepAdvice(bool implicit, bool washino)
 {
 	std::ostringstream msg;
@@ -265,7 +291,8 @@ std::string ViscBridgeGuard::safeStepAdvice(bool implicit, bool washino)
 	} else {
 		// P14 is rigorous, so half of it is safe whatever the network; the stepper's spectral limit
 		// (physics.md §7) is usually larger, which is why it is named as the better remedy
-		msg << " A safe dt for the current contacts: " << safe << " s (half the rigorous bound P14; "
+		msg << " A safe dt for the current contacts: " << safe << " s (half the rigorous bound P14"
+		    << (ruptured.empty() ? "" : ", counting the bridges ruptured since the last check") << "; "
 		    << (implicit ? "implicit viscous forces: collision bound only)."
 		                 : "ViscBridgeTimeStepper sets dt from the live network's own limit, at least as high; or use "
 		                   "integration='implicit' to lift the viscous limit).");
@@ -283,6 +310,7 @@ std::string ViscBridgeGuard::diagnose(Body::id_t worst, const std::string& what)
 	// a tangential model that is not dissipative can put energy in by itself (physics.md P7)
 	const bool washino = functors.ip2 && !viscbridge::TangentialModels::capabilities[functors.ip2->selection.tangential].dissipative;
 	bound.evaluate(scene, implicit, 0.4);
+	boundWithRuptured(implicit);
 	distributed::reduceTimeStepBound(scene, bound.collision, bound.viscous, bound.combined, bound.criticalBody); // [MPI] all ranks
 	if (washino)
 		msg << " The scene uses tangentialModel='" << functors.ip2->tangentialModel << "', which is not dissipative (physics.md P7): it can "
@@ -361,6 +389,7 @@ void ViscBridgeGuard::action()
 			++rebaselines;
 		}
 		accumulateBoundaryWork(newRun);
+		collectRuptures();
 		if (scene->iter % iterPeriod == 0) checkEnergy();
 	}
 	lastCallEnd = Clock::now();

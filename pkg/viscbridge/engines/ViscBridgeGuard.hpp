@@ -24,6 +24,16 @@ class ViscBridgeGuard : public GlobalEngine {
 	bool                                  lastStepOfRun = false;
 	std::chrono::steady_clock::time_point lastCallEnd;
 	NetworkTimeStepBound                  bound;
+	// The bridges ruptured since the last check that passed (a blow-up tears the culprit's bridge
+	// apart before it is diagnosed): their rates in P14, per body, so that the advised dt still
+	// counts them (never unsafe).
+	struct Ruptured {
+		Body::id_t id;
+		Real       damping, stiffness;
+	};
+	std::vector<Ruptured> ruptured;
+	void                  collectRuptures();
+	void                  boundWithRuptured(bool implicit);
 	AttributeRollback<int, Real, Real>    rollback;
 	auto                                  checked() { return std::tie(iterPeriod, energyMargin, energyFloor); }
 
@@ -64,8 +74,10 @@ public:
 		"added to O.energy as ``boundaryWork``, so that ``O.energy.total()`` closes with moving walls). "
 		"Physics cannot exceed that bound; an explicit scheme above its stable step does. The message "
 		"names the body, its most demanding interaction with its coefficients, the time-step criterion "
-		"that was violated, and a Δt that would be safe (:yref:`ViscBridgeTimeStepper` at its default "
-		"safety) — only when that is smaller than the current one; with tangentialModel='washino', "
+		"that was violated, and a Δt that would be safe (half the rigorous bound P14 of the current contacts "
+		"and of the bridges that ruptured since the last check that passed: a blow-up often tears the "
+		"culprit's bridge apart before it is diagnosed, and the advice must still count it) — only when "
+		"that is smaller than the current one; with tangentialModel='washino', "
 		"which is not dissipative, it says that the gain may be the model's.\n\n"
 		"The reference is taken one step after the start and after bodies or engines change. At the "
 		"start of every new ``O.run()`` it is taken again from the current state, keeping the energy "

@@ -110,8 +110,7 @@ void ViscBridgeTimeStepper::fullUpdate(Scene* sc)
 
 ViscBridgeTimeStepper::FormedBridge ViscBridgeTimeStepper::formedRecord(Body::id_t id1, Body::id_t id2, const ViscBridgePhys& ph)
 {
-	const Real mobility = ph.mEff > 0 ? 1 / ph.mEff : 0;
-	return { id1, id2, ph.viscousStepCoefficient * mobility, ph.capillaryStiffness * mobility };
+	return { id1, id2, ph.stepDampingRate(), ph.stepStiffnessRate() };
 }
 
 void ViscBridgeTimeStepper::addFormedBridges(Scene* sc)
@@ -122,10 +121,7 @@ void ViscBridgeTimeStepper::addFormedBridges(Scene* sc)
 	std::vector<FormedBridge> formed;
 	if (listening)
 		for (const BridgeEvent& e : ViscBridgeContext::of(sc).events(sc->iter)) {
-			if (e.kind != BridgeEvent::Kind::formed) continue;
-			const shared_ptr<Interaction>& I = sc->interactions->find(e.id1, e.id2);
-			if (!I || !I->isReal()) continue;
-			if (const auto* ph = dynamic_cast<const ViscBridgePhys*>(I->phys.get())) formed.push_back(formedRecord(e.id1, e.id2, *ph));
+			if (e.kind == BridgeEvent::Kind::formed) formed.push_back({ e.id1, e.id2, e.dampingRate, e.stiffnessRate });
 		}
 	listening = true;
 	correctForFormed(sc, formed);

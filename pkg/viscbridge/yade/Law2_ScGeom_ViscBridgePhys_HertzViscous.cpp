@@ -71,7 +71,8 @@ namespace {
 		const bool                  lives     = vb::evaluatePair<Cm, E, Imp>(ph.constants, ph, in, f, e);
 		if constexpr (Cm::hasBridge) // a formation or a rupture, for the engines that follow the bridges
 			if (ph.bridge != hadBridge)
-				law.context->publish({ ph.bridge ? BridgeEvent::Kind::formed : BridgeEvent::Kind::ruptured, id1, id2, ph.bridgeVolume, in.S });
+				law.context->publish({ ph.bridge ? BridgeEvent::Kind::formed : BridgeEvent::Kind::ruptured, id1, id2, ph.bridgeVolume, in.S,
+				                       ph.stepDampingRate(), ph.stepStiffnessRate() });
 		if (!lives) return false;
 		if constexpr (Imp) ph.implicitBlockIter = scene->iter;
 		scene->forces.addForce(id1, f.force1);

@@ -9,6 +9,10 @@ namespace yade {
 class ViscBridgePhys : public FrictPhys {
 public:
 	virtual ~ViscBridgePhys() = default;
+	// This bridge's rates in the bound P14 (physics.md §3): its damping at S_min and its capillary
+	// stiffness per unit reduced mass [1/s, 1/s²].
+	Real stepDampingRate() const { return mEff > 0 ? viscousStepCoefficient / mEff : 0; }
+	Real stepStiffnessRate() const { return mEff > 0 ? capillaryStiffness / mEff : 0; }
 	// Built from the attributes below when the physics is created and after a scene is loaded
 	// (never saved): the constants the law's kernel reads, and which kernel that is.
 	viscbridge::PairConstants  constants;
