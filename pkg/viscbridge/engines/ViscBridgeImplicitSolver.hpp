@@ -18,7 +18,6 @@ namespace distributed {
 }
 
 class ViscBridgeImplicitSolver : public GlobalEngine {
-	std::vector<Vector3r> lastViscousForce, lastViscousTorque; // per body id, for the warm start
 	// The lagged factorisation and what it was computed for (bodies, bridges, free components).
 	shared_ptr<viscbridge::LaggedCholesky> factorisation;
 	std::vector<long>                      factorisedPattern, factorisedOrder; // sorted (the set), and as gathered (the order, to skip the sort when unchanged)
@@ -55,6 +54,9 @@ class ViscBridgeImplicitSolver : public GlobalEngine {
 public:
 	void action() override;
 	void postLoad(ViscBridgeImplicitSolver&);
+	// Saving refreshes the factorisation at the next step, as loading must (the factor is not saved):
+	// a run continued after O.save and one resumed from the file then solve the same systems.
+	void preSave(ViscBridgeImplicitSolver&) { factorisedIter = -1; }
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR(ViscBridgeImplicitSolver, GlobalEngine,
 		"Solves $(M+\\Delta t D)\\,v_{n+1/2} = M v_{n-1/2} + \\Delta t F_{other}$ for the translational "
@@ -124,6 +126,8 @@ public:
 		((Real,pendingRotational,0,Attr::hidden,"Rotational viscous work of the last solve, not yet booked."))
 		((bool,pendingWork,false,Attr::hidden,"Whether pending* hold work not yet booked."))
 		((bool,pendingTangentialKeys,false,Attr::hidden,"Whether the tangential and rotational keys are booked."))
+		((vector<Vector3r>,lastViscousForce,,Attr::hidden,"Per body id: the viscous force of the last solve, the warm start of the next (saved, so that a resumed run starts CG where the continued one does)."))
+		((vector<Vector3r>,lastViscousTorque,,Attr::hidden,"Per body id: the viscous torque of the last solve (warm start)."))
 		,
 		/* ctor */ rollback.keep(checked()); energyIndex.fill(-1);
 	);
