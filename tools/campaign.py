@@ -7,10 +7,12 @@ Each case is drawn by hypothesis (python3-hypothesis) from :func:`scene_specs`: 
 0.2–2 mm (up to 30 % polydisperse) on a floor, in a facet box or floating without gravity; viscosity
 1e-3–1e3 Pa·s; every normal, tangential and capillary model the registry lists; fixed or film
 liquid; explicit or implicit; the time stepper on; the floor still or rising (a kinematic
-boundary); a sphere erased half-way or not.  :func:`check` builds the scene, runs it and
+boundary); the first two spheres a clump or not; a sphere erased half-way, or the scene saved
+half-way (O.saveTmp), run on, loaded and run on again, or neither.  :func:`check` builds the scene, runs it and
 asserts: no exception (with the time stepper on, a ViscBridgeGuard stop is a defect — a false alarm
 or a stepper error), every position, velocity and O.energy entry finite, the liquid conserved to
-1e-12 with films, and the energy balance closed within 5 % of the energy that went through the
+1e-12 with films, a scene resumed from its saved copy continuing as the uninterrupted run did
+(positions, velocities and dt to 1e-12), and the energy balance closed within 5 % of the energy that went through the
 scene, by YADE's kinetic energy or by the time-centred one (not for tangentialModel='washino',
 which is not dissipative: no guard, no balance).  A failing case is shrunk by hypothesis to a small
 one and printed; shrunk cases become regular tests (tests/yade/test_campaign.py).  The fixed-seed subset of the test suite draws its
@@ -56,7 +58,8 @@ def scene_specs(draw, moving=True):
         # the floor rises at this speed [m/s]; not with a capillary force: an open defect
         # (tests/yade/test_campaign.py, RISING_FLOOR_CAPILLARY) the campaign need not find again
         lift=draw(st.sampled_from((0.0, 0.0, 0.01, 0.05))) if moving and capillary == 'none' else 0.0,
-        erase=draw(st.booleans()),
+        clump=draw(st.booleans()),
+        halfway=draw(st.sampled_from(('none', 'erase', 'saveLoad'))),
         seed=draw(st.integers(0, 2 ** 16)),
     )
 
@@ -78,6 +81,9 @@ def build(spec):
         O.bodies.append(geom.facetBox((side / 2, side / 2, side), (side / 2 + r, side / 2 + r, side + r), wallMask=63,
                                        material=mat))
     spheres = _place(spec, side, rng, mat)
+    movers = list(spheres)
+    if spec.get('clump') and len(spheres) >= 3:
+        movers = [O.bodies.clump(spheres[:2])] + spheres[2:]
     gravity = (0, 0, 0) if spec['boundary'] == 'none' else (0, 0, -9.81)
     effects = {k: spec[k] for k in ('viscosity', 'normalModel', 'tangentialModel', 'capillaryModel', 'liquidModel')}
     if spec['capillaryModel'] != 'none':
@@ -91,7 +97,7 @@ def build(spec):
                                    kinematic=kinematic, **effects)
     if spec['liquidModel'] == 'film':
         liquid.set_film(spheres, [0.02 * 4 / 3 * math.pi * O.bodies[i].shape.radius ** 3 * rng.random() for i in spheres])
-    for i in spheres:
+    for i in movers:
         O.bodies[i].state.vel = tuple(spec['speed'] * rng.uniform(-1, 1) for _ in range(3))
     O.dt = 1e-9  # the time stepper sets it at the first step
     O.trackEnergy = True
@@ -137,17 +143,39 @@ def _place(spec, side, rng, mat):
 
 
 def check(spec, steps=STEPS):
-    """Build and run `spec`; raise AssertionError naming the broken invariant.  With spec['erase'],
-    one sphere is erased half-way (its energy and liquid leave the scene: the balances restart)."""
+    """Build and run `spec`; raise AssertionError naming the broken invariant.  Half-way
+    (spec['halfway']): 'erase' erases a sphere that is not in a clump (its energy and liquid leave
+    the scene: the balances restart); 'saveLoad' saves the scene, runs on, loads it and runs on
+    again, which must give the same state."""
     from yade import O
     spheres = build(spec)
     O.run(1, True)
-    if spec.get('erase'):
-        half = _run_and_check(spec, steps // 2)
-        O.bodies.erase(spheres[random.Random(spec['seed']).randrange(len(spheres))])
+    halfway = spec.get('halfway', 'none')
+    if halfway == 'none':
+        return _run_and_check(spec, steps)
+    half = _run_and_check(spec, steps // 2)
+    if halfway == 'erase':
+        loose = [i for i in spheres if not O.bodies[i].isClumpMember]
+        O.bodies.erase(loose[random.Random(spec['seed']).randrange(len(loose))])
         O.run(1, True)
         return half + _run_and_check(spec, steps - steps // 2)
-    return _run_and_check(spec, steps)
+    O.saveTmp('campaign')
+    rest = _run_and_check(spec, steps - steps // 2)
+    continued, dt = _state(), O.dt
+    O.loadTmp('campaign')
+    O.run(rest, True)
+    assert O.dt == dt, 'dt after loading %r, continued %r' % (O.dt, dt)
+    resumed = _state()
+    for k, what in enumerate(('position', 'velocity', 'angular velocity')):
+        scale = max(max(v[k].norm() for v in continued), 1e-300)  # the scene's largest
+        worst = max((a[k] - b[k]).norm() for a, b in zip(resumed, continued)) / scale
+        assert worst <= 1e-12, 'a resumed run differs from the continued one: %s by %.3g of the largest' % (what, worst)
+    return half + rest
+
+
+def _state():
+    from yade import O
+    return [(b.state.pos, b.state.vel, b.state.angVel) for b in O.bodies]
 
 
 def _run_and_check(spec, steps):

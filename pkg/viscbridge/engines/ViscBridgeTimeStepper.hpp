@@ -23,6 +23,7 @@ class ViscBridgeTimeStepper : public TimeStepper {
 	// [saved scenes] ViscBridgeTimeStepperState.cpp: the state unpacked from savedState when loading,
 	// used at the first step if the scene is still the one saved (its signature; 0: none)
 	size_t                        resumedSignature = 0;
+	bool                          resumedCountsInteractions = false; // a state of layout 3 (its signature counted the interactions)
 	std::vector<size_t>           savedBridges; // bridgeKeys() of the saved scene, sorted: the bridges the state knows
 	void                          restoreSavedState();
 	bool                          resumesSavedState(Scene*);

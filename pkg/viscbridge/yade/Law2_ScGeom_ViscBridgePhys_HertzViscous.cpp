@@ -63,7 +63,7 @@ namespace {
 		in.dt             = scene->dt;
 		if (in.S <= 0) ph.shearElastic = geom.rotate(ph.shearElastic); // into the current contact frame
 		if constexpr (Cm::hasBridge)
-			if (ph.constants.fromFilms && !ph.bridge && vb::kernel::formsAt(ph.constants, in.S)) in.liquid = law.filmsCanForm(id1, id2);
+			if (!ph.bridge && law.formsFromFilms(ph) && vb::kernel::formsAt(ph.constants, in.S)) in.liquid = law.filmsCanForm(id1, id2);
 
 		vb::PairForces f;
 		vb::PairEnergy e;

@@ -37,6 +37,10 @@ public:
 	// Whether bodies id1 and id2 carry liquid for a bridge of liquidModel 'film' (physics.md L0, L5); read
 	// only where the bridge would form (a rare path), so 'fixed' scenes never look at the films.
 	bool filmsCanForm(Body::id_t id1, Body::id_t id2);
+	// Whether a bridge forms from the films: its physics says so, or the scene keeps films (a
+	// ViscBridgeLiquid in O.engines).  The second covers the first step after O.load, when the
+	// physics' unsaved liquidModel still reads 'fixed' until the engine restores it after the loop.
+	bool formsFromFilms(const ViscBridgePhys& ph) const { return ph.constants.fromFilms || stepFilms; }
 
 	bool go(shared_ptr<IGeom>& geom, shared_ptr<IPhys>& phys, Interaction* interaction) override;
 	void postLoad(Law2_ScGeom_ViscBridgePhys_HertzViscous&);
