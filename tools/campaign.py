@@ -42,6 +42,7 @@ def scene_specs(draw, moving=True):
     tangential = draw(_models('tangentialModel').filter(
         lambda m: integration == 'explicit' or _registry.SLOTS['tangentialModel']['capabilities'][m]['implicitCapable']))
     capillary = draw(_models('capillaryModel'))
+    clump = draw(st.booleans())
     return dict(
         n=draw(st.integers(2, 24)),
         radius=draw(st.floats(0.2e-3, 2e-3)),
@@ -58,8 +59,10 @@ def scene_specs(draw, moving=True):
         # the floor rises at this speed [m/s]; not with a capillary force: an open defect
         # (tests/yade/test_campaign.py, RISING_FLOOR_CAPILLARY) the campaign need not find again
         lift=draw(st.sampled_from((0.0, 0.0, 0.01, 0.05))) if moving and capillary == 'none' else 0.0,
-        clump=draw(st.booleans()),
-        halfway=draw(st.sampled_from(('none', 'erase', 'saveLoad'))),
+        clump=clump,
+        # not saved and loaded with a clump: an open defect (tests/yade/test_campaign.py,
+        # RESUMED_CLUMP_DRIFTS) the campaign need not find again
+        halfway=draw(st.sampled_from(('none', 'erase') if clump else ('none', 'erase', 'saveLoad'))),
         seed=draw(st.integers(0, 2 ** 16)),
     )
 

@@ -1,6 +1,8 @@
 #include "viscbridge/engines/ViscBridgeImplicitSolver.hpp"
 #include "viscbridge/distributed/Distributed.hpp"
 #include "viscbridge/distributed/ImplicitSolveOverRanks.hpp"
+#include "viscbridge/engines/ViscBridgeImplicitWarmStart.hpp"
+#include "viscbridge/yade/SceneAttachment.hpp"
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include "viscbridge/core/linalg/ImplicitViscousSystem.hpp"
 #include "viscbridge/core/util/Validation.hpp"
@@ -78,6 +80,7 @@ void ViscBridgeImplicitSolver::action()
                 phase = Clock::now();
 	};
 	bookPendingWork();
+	last                           = sceneAttachment<ViscBridgeImplicitWarmStart>(scene);
 	const NewtonIntegrator& newton = checkScene();
 	Gathered                g      = gather(newton);
 	bridges                        = static_cast<int>(g.system.size());
@@ -241,11 +244,11 @@ Matrix3r ViscBridgeImplicitSolver::rotationalInertia(const Body& b, const Newton
 Eigen::VectorXd ViscBridgeImplicitSolver::warmStartGuess(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids) const
 {
 	Eigen::VectorXd x = sys.currentVelocities();
-	if (!warmStart || lastViscousForce.size() != scene->bodies->size()) return x;
+	if (!warmStart || last->force.size() != scene->bodies->size()) return x;
 	for (size_t i = 0; i < ids.size(); ++i) {
 		const vb::SystemBody& b = sys.bodies()[i];
-		if (b.mass > 0) x.segment<3>(6 * i) += scene->dt * (b.force + lastViscousForce[ids[i]]) / b.mass;
-		if (b.inertia.trace() > 0) x.segment<3>(6 * i + 3) += scene->dt * b.inertia.ldlt().solve(b.torque + lastViscousTorque[ids[i]]);
+		if (b.mass > 0) x.segment<3>(6 * i) += scene->dt * (b.force + last->force[ids[i]]) / b.mass;
+		if (b.inertia.trace() > 0) x.segment<3>(6 * i + 3) += scene->dt * b.inertia.ldlt().solve(b.torque + last->torque[ids[i]]);
 	}
 	return x;
 }
@@ -327,8 +330,8 @@ void ViscBridgeImplicitSolver::applyForces(const vb::ImplicitViscousSystem& sys,
 {
 	const long nBodies = static_cast<long>(ids.size());
 	if (warmStart) {
-		lastViscousForce.resize(scene->bodies->size(), Vector3r::Zero());
-		lastViscousTorque.resize(scene->bodies->size(), Vector3r::Zero());
+		last->force.resize(scene->bodies->size(), Vector3r::Zero());
+		last->torque.resize(scene->bodies->size(), Vector3r::Zero());
 	}
 	const Real dt = scene->dt;
 #pragma omp parallel for schedule(static)
@@ -337,7 +340,7 @@ void ViscBridgeImplicitSolver::applyForces(const vb::ImplicitViscousSystem& sys,
 		Vector3r              f, t; // what the bridges exert: −(D v)
 		sys.resultantOn(i, R, f, t);
 		f = -f, t = -t;
-		if (warmStart) lastViscousForce[ids[i]] = f, lastViscousTorque[ids[i]] = t;
+		if (warmStart) last->force[ids[i]] = f, last->torque[ids[i]] = t;
 		const Vector3r momentChange = b.inertia * (x.segment<3>(6 * i + 3) - b.angVel);
 		for (int d = 0; d < 3; ++d) {
 			if (b.free[d]) f[d] = b.mass * (x[6 * i + d] - b.vel[d]) / dt - b.force[d];

@@ -13,11 +13,14 @@ namespace yade {
 
 class NewtonIntegrator;
 class ViscBridgePhys;
+class ViscBridgeImplicitWarmStart;
 namespace distributed {
 	struct Ownership;
 }
 
 class ViscBridgeImplicitSolver : public GlobalEngine {
+	// the warm start (per body id: the last solve's viscous forces), attached to the scene
+	shared_ptr<ViscBridgeImplicitWarmStart> last;
 	// The lagged factorisation and what it was computed for (bodies, bridges, free components).
 	shared_ptr<viscbridge::LaggedCholesky> factorisation;
 	std::vector<long>                      factorisedPattern, factorisedOrder; // sorted (the set), and as gathered (the order, to skip the sort when unchanged)
@@ -126,8 +129,6 @@ public:
 		((Real,pendingRotational,0,Attr::hidden,"Rotational viscous work of the last solve, not yet booked."))
 		((bool,pendingWork,false,Attr::hidden,"Whether pending* hold work not yet booked."))
 		((bool,pendingTangentialKeys,false,Attr::hidden,"Whether the tangential and rotational keys are booked."))
-		((vector<Vector3r>,lastViscousForce,,Attr::hidden,"Per body id: the viscous force of the last solve, the warm start of the next (saved, so that a resumed run starts CG where the continued one does)."))
-		((vector<Vector3r>,lastViscousTorque,,Attr::hidden,"Per body id: the viscous torque of the last solve (warm start)."))
 		,
 		/* ctor */ rollback.keep(checked()); energyIndex.fill(-1);
 	);

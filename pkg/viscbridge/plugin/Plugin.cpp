@@ -10,10 +10,11 @@
 #include "viscbridge/engines/ViscBridgeTimeStepper.hpp"
 #include "viscbridge/engines/ViscBridgeGuard.hpp"
 #include "viscbridge/engines/ViscBridgeImplicitSolver.hpp"
+#include "viscbridge/engines/ViscBridgeImplicitWarmStart.hpp"
 #include "viscbridge/engines/ViscBridgeLiquid.hpp"
 
 namespace yade {
 YADE_PLUGIN((ViscBridgeHeaderProbe)(ViscBridgePhys)(Ip2_FrictMat_FrictMat_ViscBridgePhys)(Law2_ScGeom_ViscBridgePhys_HertzViscous)
             (Ig2_Wall_Sphere_ViscBridgeScGeom)(Ig2_Facet_Sphere_ViscBridgeScGeom)
-            (ViscBridgeTimeStepper)(ViscBridgeImplicitSolver)(ViscBridgeGuard)(ViscBridgeLiquid)(ViscBridgeState)(ViscBridgeContext));
+            (ViscBridgeTimeStepper)(ViscBridgeImplicitSolver)(ViscBridgeImplicitWarmStart)(ViscBridgeGuard)(ViscBridgeLiquid)(ViscBridgeState)(ViscBridgeContext));
 } // namespace yade

@@ -1,4 +1,5 @@
 #include "viscbridge/yade/ViscBridgeContext.hpp"
+#include "viscbridge/yade/SceneAttachment.hpp"
 #include <core/Engine.hpp>
 #include <lib/factory/ClassFactory.hpp>
 #include <algorithm>
@@ -10,11 +11,7 @@ namespace yade {
 
 shared_ptr<ViscBridgeContext> ViscBridgeContext::shared(Scene* scene)
 {
-	for (const auto& p : scene->miscParams)
-		if (auto c = YADE_PTR_DYN_CAST<ViscBridgeContext>(p)) return c;
-	auto created = shared_ptr<ViscBridgeContext>(new ViscBridgeContext);
-	scene->miscParams.push_back(created);
-	return created;
+	return sceneAttachment<ViscBridgeContext>(scene);
 }
 
 ViscBridgeContext& ViscBridgeContext::of(Scene* scene) { return *shared(scene); }
