@@ -103,3 +103,24 @@ def test_scan_case_fields(kw, name):
 def test_scan_jobs(tmp_path):
     with pytest.raises(ValueError, match='jobs'):
         scan.run_cases([], str(tmp_path), jobs=0)
+
+
+@pytest.mark.parametrize('sig', ['SIGTERM', 'SIGHUP'])
+def test_a_signal_after_the_batch_ended_is_reported_not_fatal(tmp_path, sig):
+    """`scan run` once died without a word when SIGTERM arrived just after yade-batch ended (its
+    handler covered only the wait for yade-batch; collecting the results ran with the default,
+    fatal action).  The whole command is interruptible now: the signal is reported, status 130."""
+    import subprocess
+    import sys
+    snippet = (
+        'import os, signal, sys\n'
+        'import viscbridge.scan.cli as cli\n'
+        'def finished_then_signalled(cases, scan_dir, jobs):\n'
+        '    os.makedirs(scan_dir, exist_ok=True)\n'
+        '    os.kill(os.getpid(), signal.%s)\n'
+        '    return []\n'
+        'cli.run_cases = finished_then_signalled\n'
+        'sys.exit(cli.main(["run", sys.argv[1], "--vary", "viscosity=1"]))\n' % sig)
+    proc = subprocess.run([sys.executable, '-c', snippet, str(tmp_path / 'scan')], capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 130, (proc.returncode, proc.stderr)
+    assert 'scan: interrupted' in proc.stderr and 'Traceback' not in proc.stderr

@@ -59,7 +59,7 @@ def _run_batch(table, scan_dir, jobs, bar, finished):
         # group (yade-batch and its jobs) and then reports
         proc = subprocess.Popen(cmd, cwd=scan_dir, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
         try:
-            with _signals(_interrupt):
+            with interruptible():
                 while proc.poll() is None:
                     time.sleep(2)
                     if bar:
@@ -78,6 +78,13 @@ def _run_batch(table, scan_dir, jobs, bar, finished):
 
 def _interrupt(signum, frame):
     raise KeyboardInterrupt(signal.Signals(signum).name)
+
+
+def interruptible():
+    """Within: SIGTERM and SIGHUP raise KeyboardInterrupt, as Ctrl-C does, so that a command
+    stopped by any of them reports it and keeps what finished (the scan's command line wraps a whole
+    command in it: a signal just after yade-batch ended used to kill it without a word)."""
+    return _signals(_interrupt)
 
 
 @contextlib.contextmanager

@@ -7,7 +7,7 @@ import json
 import os
 import sys
 
-from .batch import run_cases
+from .batch import interruptible, run_cases
 from .cases import CASE_DEFAULTS, CASE_FIELDS, _allowed, grid, one_at_a_time
 from .errors import ScanError
 from .results import collect
@@ -119,7 +119,8 @@ def main(argv=None):
     """The command line; returns the exit status.  Errors are reported on stderr without a traceback."""
     args = build_parser().parse_args(argv)
     try:
-        dict(run=_run, table=_table, collect=_collect, slurm=_slurm)[args.command](args)
+        with interruptible():
+            dict(run=_run, table=_table, collect=_collect, slurm=_slurm)[args.command](args)
     except KeyboardInterrupt:
         resume = ('; yade-batch stopped, finished cases kept in %s; run the same command again to resume'
                   % os.path.join(os.path.abspath(args.dir), 'results.jsonl')) if args.command == 'run' else ''
