@@ -12,7 +12,8 @@ half-way (O.saveTmp), run on, loaded and run on again, or neither.  :func:`check
 asserts: no exception (with the time stepper on, a ViscBridgeGuard stop is a defect — a false alarm
 or a stepper error), every position, velocity and O.energy entry finite, the liquid conserved to
 1e-12 with films, a scene resumed from its saved copy continuing as the uninterrupted run did
-(positions, velocities and dt to 1e-12), and the energy balance closed within 5 % of the energy that went through the
+(dt to 1e-10, positions to 1e-9 and velocities to 1e-7 of the scene's largest: see RESUMED), and the
+energy balance closed within 5 % of the energy that went through the
 scene, by YADE's kinetic energy or by the time-centred one (not for tangentialModel='washino',
 which is not dissipative: no guard, no balance).  A failing case is shrunk by hypothesis to a small
 one and printed; shrunk cases become regular tests (tests/yade/test_campaign.py).  The fixed-seed subset of the test suite draws its
@@ -28,6 +29,12 @@ from viscbridge import _registry
 BOUNDARIES = ('floor', 'box', 'none')
 STEPS = 400
 BALANCE = 0.05  # of the energy that went through the scene: first-order bookings (Coulomb sliding, contact dashpots) at the collision step
+# A resumed run follows the continued one to round-off, not to the last bit: YADE does not save the
+# collider's potential interactions, so after loading the interactions sit in another order once one
+# is erased, forces and the implicit solver's products are summed in another order, and the
+# difference in the last bit grows in a colliding scene (after 200 steps, measured: positions 7e-11
+# and velocities 1.3e-9 of the largest; the defects found were 1e-8 in dt and 1e-4 in positions).
+RESUMED = {'position': 1e-9, 'velocity': 1e-7, 'angular velocity': 1e-7, 'dt': 1e-10}
 
 
 def _models(slot):
@@ -42,7 +49,6 @@ def scene_specs(draw, moving=True):
     tangential = draw(_models('tangentialModel').filter(
         lambda m: integration == 'explicit' or _registry.SLOTS['tangentialModel']['capabilities'][m]['implicitCapable']))
     capillary = draw(_models('capillaryModel'))
-    clump = draw(st.booleans())
     return dict(
         n=draw(st.integers(2, 24)),
         radius=draw(st.floats(0.2e-3, 2e-3)),
@@ -59,10 +65,8 @@ def scene_specs(draw, moving=True):
         # the floor rises at this speed [m/s]; not with a capillary force: an open defect
         # (tests/yade/test_campaign.py, RISING_FLOOR_CAPILLARY) the campaign need not find again
         lift=draw(st.sampled_from((0.0, 0.0, 0.01, 0.05))) if moving and capillary == 'none' else 0.0,
-        clump=clump,
-        # not saved and loaded with a clump: an open defect (tests/yade/test_campaign.py,
-        # RESUMED_CLUMP_DRIFTS) the campaign need not find again
-        halfway=draw(st.sampled_from(('none', 'erase') if clump else ('none', 'erase', 'saveLoad'))),
+        clump=draw(st.booleans()),
+        halfway=draw(st.sampled_from(('none', 'erase', 'saveLoad'))),
         seed=draw(st.integers(0, 2 ** 16)),
     )
 
@@ -167,12 +171,12 @@ def check(spec, steps=STEPS):
     continued, dt = _state(), O.dt
     O.loadTmp('campaign')
     O.run(rest, True)
-    assert O.dt == dt, 'dt after loading %r, continued %r' % (O.dt, dt)
+    assert abs(O.dt - dt) <= RESUMED['dt'] * dt, 'dt after loading %r, continued %r' % (O.dt, dt)
     resumed = _state()
     for k, what in enumerate(('position', 'velocity', 'angular velocity')):
         scale = max(max(v[k].norm() for v in continued), 1e-300)  # the scene's largest
         worst = max((a[k] - b[k]).norm() for a, b in zip(resumed, continued)) / scale
-        assert worst <= 1e-12, 'a resumed run differs from the continued one: %s by %.3g of the largest' % (what, worst)
+        assert worst <= RESUMED[what], 'a resumed run differs from the continued one: %s by %.3g of the largest' % (what, worst)
     return half + rest
 
 

@@ -87,16 +87,14 @@ def test_a_capillary_sphere_on_a_rising_floor_is_not_stopped():
     campaign.check(RISING_FLOOR_CAPILLARY)
 
 
-# Open defect (2026-12-03, seed 8, shrunk): twelve spheres of 0.2 mm, the first two a clump,
-# Adams-Perchard + Goldman, implicit, saved half-way: the resumed run is bit-identical to the
-# continued one for 65 steps, then the solver's residuals differ in the 14th digit and the
-# positions drift apart to 7e-11 of the largest by step 200.  Without the clump, with 'slip' or
-# explicit it is identical.  The clump's orientation, angular momentum, members and inertia load
-# bit-identically; the cause is not found yet.
-RESUMED_CLUMP_DRIFTS = dict(SAVED_IN_A_BOX, n=12, radius=0.0002, boundary='floor', tangentialModel='goldman', integration='implicit',
-                            clump=True, seed=0)
+# Not a defect (2026-12-03, seeds 8 and 9, shrunk): an implicit scene with Goldman's model (here with
+# a clump), saved and resumed, is bit-identical for 65 steps and then drifts to 7e-11 (positions)
+# and 1.3e-9 (velocities) of the largest by step 200.  At step 64 an interaction is erased; the loaded scene's container, which lacks the
+# collider's unsaved potential interactions, then holds the bridges in another order, and the
+# products are summed in another order.  campaign.RESUMED bounds this round-off.
+RESUMED_CLUMP_ROUNDOFF = dict(SAVED_IN_A_BOX, n=12, radius=0.0002, boundary='floor', tangentialModel='goldman', integration='implicit',
+                              clump=True, seed=0)
 
 
-@pytest.mark.xfail(strict=True, reason='open defect: a resumed implicit scene with a clump and Goldman drifts by 7e-11')
-def test_a_resumed_clump_scene_continues_identically():
-    campaign.check(RESUMED_CLUMP_DRIFTS)
+def test_a_resumed_clump_scene_follows_the_continued_one_to_round_off():
+    campaign.check(RESUMED_CLUMP_ROUNDOFF)
