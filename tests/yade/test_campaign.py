@@ -72,6 +72,22 @@ def test_a_run_resumed_from_its_saved_copy_continues_identically(spec):
     campaign.check(spec)
 
 
+def test_loading_a_film_scene_warns_of_nothing(capfd):
+    """Restoring the unsaved liquidModel after loading is not the user changing the Ip2: when the
+    first step after loading created an interaction, it printed the warning that existing
+    interactions keep their old values (seed 10)."""
+    from yade import O
+    campaign.build(SAVED_WITH_FILMS)
+    O.run(100, True)
+    O.saveTmp('films')
+    O.loadTmp('films')
+    spheres = [b for b in O.bodies if b.shape.__class__.__name__ == 'Sphere']
+    spheres[-1].state.pos = spheres[0].state.pos + (1.9 * spheres[0].shape.radius, 0, 0)  # a new contact at the next step
+    capfd.readouterr()
+    O.run(1, True)
+    assert 'existing ones keep' not in capfd.readouterr().err
+
+
 # Open defect the campaign found (2026-12-03, seeds 3 and 5), kept as a strict xfail: it must start
 # passing when its cause is fixed, and then becomes a plain regression test.  A 0.2 mm sphere with a
 # Willett capillary bridge on a floor rising at 0.05 m/s (a kinematic boundary), explicit at the

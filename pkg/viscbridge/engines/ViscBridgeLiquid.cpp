@@ -44,10 +44,8 @@ void ViscBridgeLiquid::restoreLiquidModel()
 	for (const auto& engine : scene->engines)
 		if (auto* loop = dynamic_cast<InteractionLoop*>(engine.get()))
 			for (const auto& functor : loop->physDispatcher->functors)
-				if (auto* ip2 = dynamic_cast<Ip2_FrictMat_FrictMat_ViscBridgePhys*>(functor.get()); ip2 && ip2->liquidModel != film) {
-					ip2->liquidModel = film;
-					ip2->postLoad(*ip2);
-				}
+				if (auto* ip2 = dynamic_cast<Ip2_FrictMat_FrictMat_ViscBridgePhys*>(functor.get()); ip2 && ip2->liquidModel != film)
+					ip2->restoreLiquidModel(film);
 	for (const auto& I : *scene->interactions)
 		if (auto* ph = I->isReal() ? dynamic_cast<ViscBridgePhys*>(I->phys.get()) : nullptr; ph && !ph->constants.fromFilms) {
 			ph->liquidModel         = film;

@@ -57,6 +57,12 @@ void Ip2_FrictMat_FrictMat_ViscBridgePhys::postLoad(Ip2_FrictMat_FrictMat_ViscBr
 	}
 }
 
+void Ip2_FrictMat_FrictMat_ViscBridgePhys::restoreLiquidModel(const std::string& model)
+{
+	liquidModel = model;
+	rollback.check(checked(), [&] { validate(); });
+}
+
 void Ip2_FrictMat_FrictMat_ViscBridgePhys::warnIneffectiveOrImplausible() const
 {
 	if (capillaryModel != vb::CapillaryModels::names[0] && !(surfaceTension > 0))

@@ -31,6 +31,9 @@ public:
 	viscbridge::ModelSelection selection; // parsed normalModel, tangentialModel, capillaryModel
 	void validate();                      // throws std::invalid_argument
 	void postLoad(Ip2_FrictMat_FrictMat_ViscBridgePhys&);
+	// The liquid model a loaded scene had (liquidModel is not saved; ViscBridgeLiquid restores it):
+	// not a change by the user, so without postLoad's warnings about existing interactions.
+	void restoreLiquidModel(const std::string& model);
 	void go(const shared_ptr<Material>& b1, const shared_ptr<Material>& b2, const shared_ptr<Interaction>& interaction) override;
 	FUNCTOR2D(FrictMat, FrictMat);
 	// clang-format off
