@@ -121,7 +121,12 @@ void ViscBridgeTimeStepper::addFormedBridges(Scene* sc)
 	std::vector<FormedBridge> formed;
 	if (listening)
 		for (const BridgeEvent& e : ViscBridgeContext::of(sc).events(sc->iter)) {
-			if (e.kind == BridgeEvent::Kind::formed) formed.push_back({ e.id1, e.id2, e.dampingRate, e.stiffnessRate });
+			// from the physics, not the event: ViscBridgeLiquid (before this engine) may have changed a
+			// film bridge's volume, hence its capillary stiffness, since the law published it
+			if (e.kind != BridgeEvent::Kind::formed) continue;
+			const shared_ptr<Interaction>& I = sc->interactions->find(e.id1, e.id2);
+			if (!I || !I->isReal()) continue;
+			if (const auto* ph = dynamic_cast<const ViscBridgePhys*>(I->phys.get())) formed.push_back(formedRecord(e.id1, e.id2, *ph));
 		}
 	listening = true;
 	correctForFormed(sc, formed);

@@ -15,7 +15,7 @@ struct BridgeEvent {
 	Body::id_t id1, id2;   // the interaction's bodies (id1 < id2 as YADE orders them)
 	Real       volume;     // the bridge's liquid volume [m³]
 	Real       separation; // the surface gap S when it happened [m]
-	Real       dampingRate, stiffnessRate; // the bridge's rates in P14 (ViscBridgePhys::stepDampingRate, stepStiffnessRate): a ruptured one's last
+	Real       dampingRate, stiffnessRate; // the bridge's rates in P14 when published (ViscBridgePhys::stepDampingRate, stepStiffnessRate): a ruptured one's last
 
 	// The order in which a step's events are read (independent of the thread that published them).
 	friend bool operator<(const BridgeEvent& a, const BridgeEvent& b)
