@@ -5,6 +5,7 @@
 #include "viscbridge/core/linalg/BlockCholesky.hpp"
 #include "viscbridge/core/linalg/BridgeDampingMatrix.hpp"
 #include "viscbridge/core/linalg/ImplicitViscousSystem.hpp"
+#include "viscbridge/core/linalg/LaggedPreconditioner.hpp"
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 #include <array>

@@ -5,6 +5,7 @@
 #include "viscbridge/yade/SceneAttachment.hpp"
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include "viscbridge/core/linalg/ImplicitViscousSystem.hpp"
+#include "viscbridge/core/linalg/LaggedPreconditioner.hpp"
 #include "viscbridge/core/util/Validation.hpp"
 #include "viscbridge/scene/SceneValidation.hpp"
 #include <core/Clump.hpp>
@@ -21,8 +22,8 @@ namespace yade {
 CREATE_LOGGER(ViscBridgeImplicitSolver);
 
 namespace {
-	// the preconditioners, by name (the first is the default)
-	constexpr std::array<const char*, 2> preconditionerNames { "cholesky", "jacobi" };
+	// the preconditioners, by name (the first is the default; the last is not lagged)
+	constexpr std::array<const char*, 3> preconditionerNames { "cholesky", "multigrid", "jacobi" };
 }
 
 void ViscBridgeImplicitSolver::postLoad(ViscBridgeImplicitSolver&)
@@ -162,6 +163,8 @@ ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const Newton
 			c.block.r1 += armInClump(g.ends[k][0]);
 			c.block.r2 += armInClump(g.ends[k][1]);
 			c.shiftVel          = scene->isPeriodic ? Vector3r(scene->cell->intrShiftVel(g.described[k]->cellDist)) : Vector3r::Zero();
+			c.branch            = Body::byId(g.ids[c.body2], scene)->state->pos - Body::byId(g.ids[c.body1], scene)->state->pos
+			        + (scene->isPeriodic ? Vector3r(scene->cell->intrShiftPos(g.described[k]->cellDist)) : Vector3r::Zero());
 			g.pattern[nBodies + k] = -(static_cast<long>(std::min(c.body1, c.body2)) * (1L << 31) + std::max(c.body1, c.body2)) - 1;
 		}
 	}
@@ -253,14 +256,20 @@ Eigen::VectorXd ViscBridgeImplicitSolver::warmStartGuess(const vb::ImplicitVisco
 	return x;
 }
 
-// The lagged factorisation, refactorised when the bridges or free components changed, when a refresh
+// The lagged preconditioner, recomputed when the bridges or free components changed, when a refresh
 // pays (renewal: the last solve's iterations c_T reach the cycle's average cost per step
 // (refreshCost + Σ c_i)/T, which a later refresh could only raise while the iterations grow), or
-// when the last solve needed more than refreshIterations iterations.  The analysis is kept if only
-// the numbers changed.
+// when the last solve needed more than refreshIterations iterations.  The Cholesky analysis is kept
+// if only the numbers changed.
 const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const vb::ImplicitViscousSystem& sys, const std::vector<long>& pattern)
 {
-	if (preconditioner != preconditionerNames[0] || sys.size() == 0) return nullptr;
+	const std::string kind = sys.size() == 0 ? preconditionerNames[2] : preconditioner;
+	if (kind == preconditionerNames[2]) {
+		preconditionerInUse = kind;
+		return nullptr;
+	}
+	if (kind != preconditionerInUse) factorisation.reset();
+	preconditionerInUse = kind;
 	// The same bodies and bridges: usually in the same order as at the factorisation (YADE reorders its
 	// interactions only when some are erased), else the same set once sorted.
 	std::vector<long> sorted;
@@ -274,17 +283,22 @@ const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const 
 	const bool samePattern = factorisation && factorisation->matches(sys.size()) && (pattern == factorisedOrder || sortedPattern() == factorisedPattern);
 	const bool pays = cycleSolves > 0 && static_cast<double>(lastIterationsSeen) * cycleSolves >= refreshCost + cycleIterations;
 	if (samePattern && !pays && lastIterationsSeen <= refreshIterations && factorisedIter >= 0) return factorisation.get();
-	if (!factorisation) factorisation = shared_ptr<vb::LaggedCholesky>(new vb::LaggedCholesky);
+	if (!factorisation) {
+		if (kind == preconditionerNames[1]) factorisation = shared_ptr<vb::LaggedPreconditioner>(new vb::LaggedMultigrid);
+		else factorisation = shared_ptr<vb::LaggedPreconditioner>(new vb::LaggedCholesky);
+	}
 	if (!factorisation->refresh(sys, samePattern)) {
 		factorisation.reset(); // not positive definite: CG with block Jacobi, then the fallback
 		factorisedPattern.clear();
 		factorisedOrder.clear();
+		preconditionerInUse = preconditionerNames[2];
 		return nullptr;
 	}
 	factorisedPattern = sortedPattern();
 	factorisedOrder   = pattern;
 	factorisedIter    = scene->iter;
-	factorBlocks      = static_cast<long>(factorisation->factor().offDiagonalBlocks());
+	factorBlocks      = static_cast<long>(factorisation->storedBlocks());
+	levels            = factorisation->levels();
 	refreshCost       = factorisation->refreshCost(sys.bridges().size());
 	cycleSolves = cycleIterations = 0;
 	++factorisations;

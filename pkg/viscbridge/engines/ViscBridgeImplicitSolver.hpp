@@ -5,6 +5,7 @@
 #include <core/Body.hpp>
 #include <core/GlobalEngine.hpp>
 #include "viscbridge/core/linalg/ImplicitViscousSystem.hpp"
+#include "viscbridge/core/linalg/LaggedPreconditioner.hpp"
 #include "viscbridge/core/models/EnergyKeys.hpp"
 #include "viscbridge/yade/AttributeRollback.hpp"
 #include <lib/base/openmp-accu.hpp>
@@ -22,7 +23,7 @@ class ViscBridgeImplicitSolver : public GlobalEngine {
 	// the warm start (per body id: the last solve's viscous forces), attached to the scene
 	shared_ptr<ViscBridgeImplicitWarmStart> last;
 	// The lagged factorisation and what it was computed for (bodies, bridges, free components).
-	shared_ptr<viscbridge::LaggedCholesky> factorisation;
+	shared_ptr<viscbridge::LaggedPreconditioner> factorisation;
 	std::vector<long>                      factorisedPattern, factorisedOrder; // sorted (the set), and as gathered (the order, to skip the sort when unchanged)
 	long                                   factorisedIter = -1;
 	int                                    lastIterationsSeen = 0;
@@ -101,9 +102,11 @@ public:
 		((Real,tolerance,1e-6,Attr::triggerPostLoad,"Relative residual ‖r‖/‖b‖ at which CG stops, in (0, 1). The default adds an error far below the scheme's own (bench/accuracy_cost.py, docs/performance.md §1); 1e-9 costs about two more iterations per step."))
 		((int,maxIterations,500,Attr::triggerPostLoad,"CG iterations before the direct fallback, >= 1."))
 		((bool,warmStart,true,,"Start CG from the velocities the last step's viscous forces would give (else from the current velocities)."))
-		((string,preconditioner,"cholesky",Attr::triggerPostLoad,"'cholesky' (lagged sparse factorisation) or 'jacobi' (6×6 blocks per body)."))
-		((int,refreshIterations,12,Attr::triggerPostLoad,"With 'cholesky': refactorise at the latest when the last solve took more CG iterations than this, >= 1 (earlier when the renewal rule says a refresh pays; the factor ages as the bridges' normals turn: docs/performance.md §2)."))
-		((long,factorisations,0,Attr::readonly,"Cholesky factorisations done (preconditioner refreshes)."))
+		((string,preconditioner,"cholesky",Attr::triggerPostLoad,"'cholesky' (lagged sparse factorisation in 6×6 blocks: a few iterations per step, but its fill, memory and sweeps grow faster than the bodies), 'multigrid' (lagged aggregation multigrid whose coarse unknowns are the rigid motions of clusters of bodies, P15b: memory and cost per iteration grow linearly with the bodies, at about 100 iterations per solve on stiff networks) or 'jacobi' (6×6 blocks per body). preconditionerInUse says which ran; docs/performance.md §8 compares them."))
+		((string,preconditionerInUse,"",Attr::readonly|Attr::noSave,"The preconditioner of the last solve: 'cholesky', 'multigrid' or 'jacobi' (also when a factorisation failed and block Jacobi took over)."))
+		((int,levels,0,Attr::readonly|Attr::noSave,"Levels of the last multigrid built, the coarsest (factorised) included; 1 for the Cholesky factor."))
+		((int,refreshIterations,12,Attr::triggerPostLoad,"With 'cholesky' or 'multigrid': recompute the preconditioner at the latest when the last solve took more CG iterations than this, >= 1 (earlier when the renewal rule says a refresh pays; it ages as the bridges' normals turn: docs/performance.md §2)."))
+		((long,factorisations,0,Attr::readonly,"Refreshes of the lagged preconditioner (Cholesky factorisations or multigrid builds)."))
 		((int,iterations,0,Attr::readonly,"CG iterations of the last solve."))
 		((Real,residual,0,Attr::readonly,"Relative residual of the last solve."))
 		((long,totalIterations,0,Attr::readonly,"CG iterations of all solves (totalIterations/solves: iterations per step)."))
@@ -112,7 +115,7 @@ public:
 		((long,fallbacks,0,Attr::readonly,"Solves that needed the direct (sparse Cholesky) fallback."))
 		((int,unknowns,0,Attr::readonly,"Free velocity components in the last solve."))
 		((int,bridges,0,Attr::readonly,"Bridges in the last solve."))
-		((long,factorBlocks,0,Attr::readonly|Attr::noSave,"6×6 blocks below the diagonal of the last factorisation (fill included)."))
+		((long,factorBlocks,0,Attr::readonly|Attr::noSave,"6×6 blocks the last lagged preconditioner keeps besides its diagonal (the factor's fill included; for the multigrid, every level's couplings and transfers and the coarsest factor)."))
 		((Real,refreshCost,0,Attr::readonly|Attr::noSave,"Estimated cost of one refresh (assembly and factorisation) in CG iterations, from the factor's structure; weighs the renewal rule."))
 		((Real,timeGather,0,Attr::readonly|Attr::noSave,"Wall time of the step 'gather': collecting bodies and bridges, building the system and the start vector, all solves [s]."))
 		((Real,timeFactorise,0,Attr::readonly|Attr::noSave,"Wall time of the step 'refresh': assembling and factorising the preconditioner [s]."))

@@ -40,6 +40,7 @@ struct SystemBridge {
 	int          body1, body2; // indices into the body list
 	ViscousBlock block;
 	Vec3         shiftVel = Vec3::Zero(); // periodic: body 2's image moves with this extra velocity
+	Vec3         branch   = Vec3::Zero(); // centre of body 2 (its image) − centre of body 1: the multigrid's rigid motions
 };
 
 struct SolveReport {
@@ -348,8 +349,9 @@ public:
 
 	// M + Δt D as 6×6 blocks over the bodies with a free component (rowOfBody: their block rows, −1
 	// for the others), prescribed rows and columns replaced by the identity's; pairs sorted, so that
-	// the same bridges give the same matrix whatever their order.
-	BlockMatrix6 blockMatrix(std::vector<int>& rowOfBody) const
+	// the same bridges give the same matrix whatever their order.  pairBranch (if given): per pair,
+	// centre of its second body − centre of its first (a bridge's branch).
+	BlockMatrix6 blockMatrix(std::vector<int>& rowOfBody, std::vector<Vec3>* pairBranch = nullptr) const
 	{
 		rowOfBody.assign(bodies_.size(), -1);
 		int rows = 0;
@@ -361,6 +363,7 @@ public:
 			if (rowOfBody[i] >= 0) A.diagonal[rowOfBody[i]] = massBlock(i);
 		std::vector<std::pair<int, int>> pairs;
 		std::vector<Mat6>                upper;
+		std::vector<Vec3>                branch;
 		for (const auto& c : bridges_) {
 			const int i = rowOfBody[c.body1], j = rowOfBody[c.body2];
 			if (i < 0 && j < 0) continue;
@@ -369,6 +372,7 @@ public:
 			if (j >= 0) A.diagonal[j] += dt_ * D.block[1][1];
 			if (i < 0 || j < 0) continue;
 			pairs.emplace_back(std::min(i, j), std::max(i, j));
+			branch.push_back(i < j ? c.branch : Vec3(-c.branch));
 			upper.push_back(dt_ * (i < j ? masked(D.block[0][1], c.body1, c.body2) : masked(D.block[1][0], c.body2, c.body1)));
 		}
 		for (size_t i = 0; i < bodies_.size(); ++i)
@@ -376,11 +380,13 @@ public:
 		std::vector<int> sorted(pairs.size());
 		std::iota(sorted.begin(), sorted.end(), 0);
 		std::sort(sorted.begin(), sorted.end(), [&](int a, int b) { return pairs[a] < pairs[b]; });
+		if (pairBranch) pairBranch->clear();
 		for (const int p : sorted) {
 			if (!A.pairs.empty() && A.pairs.back() == pairs[p]) A.upper.back() += upper[p]; // two bridges between the same bodies
 			else {
 				A.pairs.push_back(pairs[p]);
 				A.upper.push_back(upper[p]);
+				if (pairBranch) pairBranch->push_back(branch[p]);
 			}
 		}
 		return A;
@@ -455,51 +461,6 @@ private:
 	std::vector<char>                     anchored_;   // per bridge: a wall side's anchor terms are needed
 	std::vector<char>                     loaded_;     // per bridge: it touches a prescribed component or is periodic-shifted
 	mutable std::vector<BridgeResistance> resistance_; // workspace of apply()
-};
-
-// A block Cholesky factorisation of an earlier step's matrix, reused while the system keeps the same
-// unknowns and bridges (the caller decides when to refresh it).
-class LaggedCholesky : public Preconditioner {
-public:
-	// Factorises the system's matrix (the symbolic analysis is redone only when the pattern changed).
-	bool refresh(const ImplicitViscousSystem& system, bool samePattern)
-	{
-		std::vector<int>   rowOfBody;
-		const BlockMatrix6 A = system.blockMatrix(rowOfBody);
-		if (!samePattern || !factor_.factorised() || factor_.size() != A.size()) factor_.analyse(A.size(), A.pairs);
-		size_ = system.size();
-		bodyOfRow_.assign(A.size(), 0);
-		prescribedBodies_.clear();
-		for (size_t i = 0; i < rowOfBody.size(); ++i) {
-			if (rowOfBody[i] >= 0) bodyOfRow_[rowOfBody[i]] = static_cast<int>(i);
-			else prescribedBodies_.push_back(static_cast<int>(i));
-		}
-		return factor_.factorise(A);
-	}
-	bool matches(size_t size) const { return factor_.factorised() && size_ == size; }
-	// A refresh's cost in CG iterations of a system of `bridges` bridges: the factorisation and the
-	// assembly against one iteration (two sweeps and a product), counted in block × vector products
-	// from the factor's structure, so that the decision is the same on every run.  Per bridge, the
-	// assembly costs about 25 and a product 5 of them, and a block update of the factorisation runs
-	// at about 2/3 the cost of a sweep's (wall time on the settling bed, docs/performance.md §2).
-	double refreshCost(size_t bridges) const
-	{
-		const double b = static_cast<double>(bridges);
-		return ((2.0 / 3.0) * factor_.factorisationWork() + 25 * b) / (factor_.solveWork() + 5 * b);
-	}
-	void apply(const VecXd& r, VecXd& z) const override
-	{
-		if (z.size() != r.size()) z.setZero(r.size());
-		for (const int i : prescribedBodies_)
-			z.segment<6>(6 * i).setZero();
-		factor_.solve(r, z, bodyOfRow_);
-	}
-	const BlockCholesky& factor() const { return factor_; }
-
-private:
-	BlockCholesky    factor_;
-	std::vector<int> bodyOfRow_, prescribedBodies_; // the system's body of each block row; bodies without a free component
-	size_t           size_ = 0;
 };
 
 } // namespace viscbridge

@@ -1,0 +1,119 @@
+// Preconditioners computed from an earlier step's matrix M + Δt D and kept over several steps (the
+// implicit solver decides when to refresh them, physics.md §4): the block Cholesky factor, exact
+// when fresh, whose fill grows faster than the bodies; and the aggregation multigrid (P15b), whose
+// cost grows linearly.  Both work on the block rows of the bodies with a free component.  YADE-free.
+#pragma once
+#include "viscbridge/core/linalg/AggregationMultigrid.hpp"
+#include "viscbridge/core/linalg/BlockCholesky.hpp"
+#include "viscbridge/core/linalg/ImplicitViscousSystem.hpp"
+#include <array>
+#include <vector>
+
+namespace viscbridge {
+
+class LaggedPreconditioner : public Preconditioner {
+public:
+	// Recomputes it from the system's matrix (samePattern: the same bodies, bridges and free
+	// components as at the last refresh, so an analysis may be kept).  False if the matrix is not
+	// positive definite.
+	virtual bool refresh(const ImplicitViscousSystem& system, bool samePattern) = 0;
+	bool         matches(size_t size) const { return ready_ && size_ == size; }
+	// A refresh's cost in CG iterations of a system of `bridges` bridges: the refresh and the assembly
+	// against one iteration (one application and a product), counted in block × vector products from
+	// the structure, so that the decision is the same on every run.  Per bridge, the assembly costs
+	// about 25 and a product 5 of them (wall time on the settling bed, docs/performance.md §2).
+	double refreshCost(size_t bridges) const
+	{
+		const double b = static_cast<double>(bridges);
+		return (refreshWork() + 25 * b) / (applicationWork() + 5 * b);
+	}
+	virtual size_t storedBlocks() const = 0; // 6×6 blocks below the diagonal it keeps (memory)
+	virtual int    levels() const { return 1; }
+
+	void apply(const VecXd& r, VecXd& z) const override
+	{
+		if (z.size() != r.size()) z.setZero(r.size());
+		for (const int i : prescribedBodies_)
+			z.segment<6>(6 * i).setZero();
+		applyToRows(r, z);
+	}
+
+protected:
+	// The system's block matrix, and which body each block row is.
+	BlockMatrix6 blockRows(const ImplicitViscousSystem& system, std::vector<Vec3>* pairBranch = nullptr)
+	{
+		std::vector<int>   rowOfBody;
+		const BlockMatrix6 A = system.blockMatrix(rowOfBody, pairBranch);
+		size_                = system.size();
+		bodyOfRow_.assign(A.size(), 0);
+		prescribedBodies_.clear();
+		for (size_t i = 0; i < rowOfBody.size(); ++i) {
+			if (rowOfBody[i] >= 0) bodyOfRow_[rowOfBody[i]] = static_cast<int>(i);
+			else prescribedBodies_.push_back(static_cast<int>(i));
+		}
+		return A;
+	}
+	virtual double refreshWork() const                              = 0;
+	virtual double applicationWork() const                          = 0;
+	virtual void   applyToRows(const VecXd& r, VecXd& z) const = 0; // z's block of each row's body from r's
+
+	std::vector<int> bodyOfRow_, prescribedBodies_; // the system's body of each block row; bodies without a free component
+	size_t           size_  = 0;
+	bool             ready_ = false;
+};
+
+class LaggedCholesky : public LaggedPreconditioner {
+public:
+	bool refresh(const ImplicitViscousSystem& system, bool samePattern) override
+	{
+		const BlockMatrix6 A = blockRows(system);
+		if (!samePattern || !factor_.factorised() || factor_.size() != A.size()) factor_.analyse(A.size(), A.pairs);
+		return ready_ = factor_.factorise(A);
+	}
+	size_t               storedBlocks() const override { return factor_.offDiagonalBlocks(); }
+	const BlockCholesky& factor() const { return factor_; }
+
+private:
+	// A block update of the factorisation runs at about 2/3 the cost of a sweep's.
+	double refreshWork() const override { return (2.0 / 3.0) * factor_.factorisationWork(); }
+	double applicationWork() const override { return factor_.solveWork(); }
+	void   applyToRows(const VecXd& r, VecXd& z) const override { factor_.solve(r, z, bodyOfRow_); }
+
+	BlockCholesky factor_;
+};
+
+class LaggedMultigrid : public LaggedPreconditioner {
+public:
+	explicit LaggedMultigrid(int coarsestRows = AggregationMultigrid::kCoarsestRows) : coarsestRows_(coarsestRows) { }
+	bool refresh(const ImplicitViscousSystem& system, bool) override
+	{
+		std::vector<Vec3>               branch;
+		BlockMatrix6                    A = blockRows(system, &branch);
+		std::vector<std::array<bool, 6>> free(A.size());
+		for (int i = 0; i < A.size(); ++i)
+			free[i] = system.bodies()[bodyOfRow_[i]].free;
+		return ready_ = cycle_.build(std::move(A), std::move(branch), free, coarsestRows_);
+	}
+	size_t                      storedBlocks() const override { return cycle_.storedBlocks(); }
+	int                         levels() const override { return cycle_.levels(); }
+	const AggregationMultigrid& cycle() const { return cycle_; }
+
+private:
+	double refreshWork() const override { return cycle_.buildWork(); }
+	double applicationWork() const override { return cycle_.cycleWork(); }
+	void   applyToRows(const VecXd& r, VecXd& z) const override
+	{
+		rows_.resize(6 * bodyOfRow_.size());
+		for (size_t i = 0; i < bodyOfRow_.size(); ++i)
+			rows_.segment<6>(6 * i) = r.segment<6>(6 * bodyOfRow_[i]);
+		cycle_.solve(rows_, solution_);
+		for (size_t i = 0; i < bodyOfRow_.size(); ++i)
+			z.segment<6>(6 * bodyOfRow_[i]) = solution_.segment<6>(6 * i);
+	}
+
+	int                  coarsestRows_;
+	AggregationMultigrid cycle_;
+	mutable VecXd        rows_, solution_; // workspace of an application
+};
+
+} // namespace viscbridge
