@@ -281,8 +281,15 @@ const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const 
                 return sorted;
 	};
 	const bool samePattern = factorisation && factorisation->matches(sys.size()) && (pattern == factorisedOrder || sortedPattern() == factorisedPattern);
+	// The multigrid of the same unknowns stays a valid preconditioner when bridges form or rupture (the
+	// Cholesky factor's analysis must match the couplings, so it is redone).
+	const bool sameUnknowns = samePattern
+	        || (kind == preconditionerNames[1] && factorisation && factorisation->matches(sys.size())
+	            && std::equal(pattern.begin(), pattern.begin() + sys.bodies().size(), factorisedOrder.begin(), factorisedOrder.begin() + sys.bodies().size()));
 	const bool pays = cycleSolves > 0 && static_cast<double>(lastIterationsSeen) * cycleSolves >= refreshCost + cycleIterations;
-	if (samePattern && !pays && lastIterationsSeen <= refreshIterations && factorisedIter >= 0) return factorisation.get();
+	// refreshIterations counts beyond what a fresh multigrid needs (tens of iterations; the factor: one or two)
+	const int cap = refreshIterations + (kind == preconditionerNames[1] ? freshIterations : 0);
+	if (sameUnknowns && !pays && lastIterationsSeen <= cap && factorisedIter >= 0) return factorisation.get();
 	if (!factorisation) {
 		if (kind == preconditionerNames[1]) factorisation = shared_ptr<vb::LaggedPreconditioner>(new vb::LaggedMultigrid);
 		else factorisation = shared_ptr<vb::LaggedPreconditioner>(new vb::LaggedCholesky);
@@ -311,7 +318,7 @@ void ViscBridgeImplicitSolver::solve(const vb::ImplicitViscousSystem& sys, const
 	const vb::SolveReport rep = distributed::active(scene) ? solveOverRanks(scene, sys, ids, x, tolerance, maxIterations, pre)
 	                                                       : sys.solve(x, tolerance, maxIterations, pre);
 	lastIterationsSeen = rep.iterations;
-	++cycleSolves;
+	if (++cycleSolves == 1) freshIterations = rep.iterations;
 	cycleIterations += rep.iterations;
 	unknowns           = 0;
 	for (size_t d = 0; d < sys.size(); ++d)

@@ -27,6 +27,7 @@ class ViscBridgeImplicitSolver : public GlobalEngine {
 	std::vector<long>                      factorisedPattern, factorisedOrder; // sorted (the set), and as gathered (the order, to skip the sort when unchanged)
 	long                                   factorisedIter = -1;
 	int                                    lastIterationsSeen = 0;
+	int                                    freshIterations    = 0; // of the first solve after the last refresh
 	long                                   cycleSolves = 0, cycleIterations = 0; // since the last refresh
 	size_t                                 validatedSignature = 0; // sceneSignature() of the last validated scene
 	AttributeRollback<Real, int, int, std::string> rollback;
@@ -105,7 +106,7 @@ public:
 		((string,preconditioner,"cholesky",Attr::triggerPostLoad,"'cholesky' (lagged sparse factorisation in 6×6 blocks: a few iterations per step, but its fill, memory and sweeps grow faster than the bodies), 'multigrid' (lagged aggregation multigrid whose coarse unknowns are the rigid motions of clusters of bodies, P15b: memory and cost per iteration grow linearly with the bodies, at about 100 iterations per solve on stiff networks) or 'jacobi' (6×6 blocks per body). preconditionerInUse says which ran; docs/performance.md §8 compares them."))
 		((string,preconditionerInUse,"",Attr::readonly|Attr::noSave,"The preconditioner of the last solve: 'cholesky', 'multigrid' or 'jacobi' (also when a factorisation failed and block Jacobi took over)."))
 		((int,levels,0,Attr::readonly|Attr::noSave,"Levels of the last multigrid built, the coarsest (factorised) included; 1 for the Cholesky factor."))
-		((int,refreshIterations,12,Attr::triggerPostLoad,"With 'cholesky' or 'multigrid': recompute the preconditioner at the latest when the last solve took more CG iterations than this, >= 1 (earlier when the renewal rule says a refresh pays; it ages as the bridges' normals turn: docs/performance.md §2)."))
+		((int,refreshIterations,12,Attr::triggerPostLoad,"With 'cholesky' or 'multigrid': recompute the preconditioner at the latest when the last solve took more CG iterations than this (with 'multigrid': more than this beyond the first solve after the last refresh), >= 1 (earlier when the renewal rule says a refresh pays; it ages as the bridges' normals turn: docs/performance.md §2)."))
 		((long,factorisations,0,Attr::readonly,"Refreshes of the lagged preconditioner (Cholesky factorisations or multigrid builds)."))
 		((int,iterations,0,Attr::readonly,"CG iterations of the last solve."))
 		((Real,residual,0,Attr::readonly,"Relative residual of the last solve."))
