@@ -5,12 +5,12 @@
 // rigid motions of any bridged cluster, so those are the error components a local smoother cannot
 // remove; any rigid motion of a cluster is, on each aggregate, a rigid motion of that aggregate, so
 // the coarse space holds them all.  Each level is built by Galerkin projection (A_c = Pᵀ A P, exact
-// for the rigid modes); levels are added until the system is small enough for the block Cholesky
-// factorisation.  The cycle is a symmetric V-cycle (a forward block Gauss–Seidel sweep before the
+// for the rigid modes); levels are added until the system is small enough for the sparse Cholesky
+// factorisation (CholmodFactor).  The cycle is a symmetric V-cycle (a forward block Gauss–Seidel sweep before the
 // coarse correction, a backward one after), hence a symmetric positive definite preconditioner.
 // YADE-free.
 #pragma once
-#include "viscbridge/core/linalg/BlockCholesky.hpp"
+#include "viscbridge/core/linalg/CholmodFactor.hpp"
 #include "viscbridge/core/linalg/BlockRows.hpp"
 #include "viscbridge/core/linalg/Types.hpp"
 #include <algorithm>
@@ -51,10 +51,10 @@ public:
 
 	int levels() const { return static_cast<int>(levels_.size()) + 1; }
 	int rowsAt(int level) const { return level < static_cast<int>(levels_.size()) ? levels_[level].A.size() : coarsest_.size(); }
-	const BlockCholesky& coarsest() const { return coarsest_; }
+	const CholmodFactor& coarsest() const { return coarsest_; }
 
 	// The work of one cycle and of one build, in 6×6 block × 6-vector products (a block triple product
-	// of the Galerkin projection is twelve of them), as BlockCholesky counts its own.
+	// of the Galerkin projection is twelve of them), as CholmodFactor counts its own.
 	double cycleWork() const
 	{
 		double w = coarsest_.solveWork();
@@ -64,7 +64,7 @@ public:
 	}
 	double buildWork() const
 	{
-		double w = (2.0 / 3.0) * coarsest_.factorisationWork(); // as the solver weighs the factorisation's (LaggedCholesky)
+		double w = coarsest_.factorisationWork();
 		for (const Level& L : levels_)
 			w += 12.0 * static_cast<double>(L.A.couplings() / 2 + L.A.size()) + 6.0 * L.A.size();
 		return w;
@@ -201,7 +201,7 @@ private:
 	}
 
 	std::vector<Level> levels_;
-	BlockCholesky      coarsest_;
+	CholmodFactor      coarsest_;
 };
 
 } // namespace viscbridge

@@ -2,7 +2,7 @@
 // coupling (centre of body j − centre of body i): the form the multigrid's smoother sweeps and its
 // aggregation reads (AggregationMultigrid.hpp, physics.md P15b).  YADE-free.
 #pragma once
-#include "viscbridge/core/linalg/BlockCholesky.hpp"
+#include "viscbridge/core/linalg/BlockMatrix6.hpp"
 #include "viscbridge/core/linalg/Types.hpp"
 #include <Eigen/Cholesky>
 #include <numeric>

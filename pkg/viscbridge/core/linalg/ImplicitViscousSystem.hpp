@@ -4,11 +4,11 @@
 // matrix-free by preconditioned conjugate gradients.  YADE-free.
 //
 // Preconditioners: 6×6 block Jacobi (cheap, but with Δt C/m up to 1e6 at high viscosity CG needs
-// hundreds of iterations), or a block sparse Cholesky factorisation (BlockCholesky.hpp) of the
+// hundreds of iterations), or a sparse Cholesky factorisation (CholmodFactor.hpp) of the
 // assembled matrix that is kept over several steps: contacts below S_min have constant
 // coefficients, so a lagged factorisation is nearly exact and CG converges in a few iterations.
 #pragma once
-#include "viscbridge/core/linalg/BlockCholesky.hpp"
+#include "viscbridge/core/linalg/BlockMatrix6.hpp"
 #include "viscbridge/core/linalg/BridgeDampingMatrix.hpp"
 #include "viscbridge/core/linalg/ViscousBlock.hpp"
 #include "viscbridge/core/linalg/Types.hpp"

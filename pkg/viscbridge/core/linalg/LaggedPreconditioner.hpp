@@ -1,10 +1,10 @@
 // Preconditioners computed from an earlier step's matrix M + Δt D and kept over several steps (the
-// implicit solver decides when to refresh them, physics.md §4): the block Cholesky factor, exact
+// implicit solver decides when to refresh them, physics.md §4): the sparse Cholesky factor, exact
 // when fresh, whose fill grows faster than the bodies; and the aggregation multigrid (P15b), whose
 // cost grows linearly.  Both work on the block rows of the bodies with a free component.  YADE-free.
 #pragma once
 #include "viscbridge/core/linalg/AggregationMultigrid.hpp"
-#include "viscbridge/core/linalg/BlockCholesky.hpp"
+#include "viscbridge/core/linalg/CholmodFactor.hpp"
 #include "viscbridge/core/linalg/ImplicitViscousSystem.hpp"
 #include <array>
 #include <vector>
@@ -71,15 +71,14 @@ public:
 		return ready_ = factor_.factorise(A);
 	}
 	size_t               storedBlocks() const override { return factor_.offDiagonalBlocks(); }
-	const BlockCholesky& factor() const { return factor_; }
+	const CholmodFactor& factor() const { return factor_; }
 
 private:
-	// A block update of the factorisation runs at about 2/3 the cost of a sweep's.
-	double refreshWork() const override { return (2.0 / 3.0) * factor_.factorisationWork(); }
+	double refreshWork() const override { return factor_.factorisationWork(); }
 	double applicationWork() const override { return factor_.solveWork(); }
 	void   applyToRows(const VecXd& r, VecXd& z) const override { factor_.solve(r, z, bodyOfRow_); }
 
-	BlockCholesky factor_;
+	CholmodFactor factor_;
 };
 
 class LaggedMultigrid : public LaggedPreconditioner {
