@@ -187,6 +187,13 @@ TEST(ImplicitLinearAlgebra, CholmodFactorFillAndRefusal)
 	chain.diagonal[n / 2](3, 3) = -1;
 	EXPECT_FALSE(chol.factorise(chain));
 	EXPECT_FALSE(chol.factorised());
+	// no free body at all (a floor of fixed spheres bridged among themselves): nothing to factorise
+	CholmodFactor none;
+	none.analyse(0, {});
+	EXPECT_TRUE(none.factorise(BlockMatrix6 {}));
+	VecXd x;
+	none.solve(VecXd(), x);
+	EXPECT_EQ(x.size(), 0);
 }
 
 namespace {

@@ -28,27 +28,37 @@ public:
 			below_[pairs[p].first].push_back({ pairs[p].second, static_cast<int>(p) });
 		for (auto& column : below_)
 			std::sort(column.begin(), column.end());
-		pairCount_ = pairs.size();
+		pairCount_  = pairs.size();
+		factorised_ = false;
+		if (n == 0) { // every body prescribed: nothing to factorise (CHOLMOD does not take an empty matrix)
+			analysed_ = true;
+			return;
+		}
 		fillLower(nullptr);
 		llt_.analyzePattern(lower_);
-		analysed_   = llt_.info() == Eigen::Success;
-		factorised_ = false;
+		analysed_ = llt_.info() == Eigen::Success;
 	}
 
 	// False if A is not positive definite (or not of the analysed pattern).
 	bool factorise(const BlockMatrix6& A)
 	{
 		if (!analysed_ || A.size() != size() || A.pairs.size() != pairCount_) return factorised_ = false;
+		if (size() == 0) return factorised_ = true;
 		fillLower(&A);
 		llt_.factorize(lower_);
 		return factorised_ = llt_.info() == Eigen::Success;
 	}
 
-	void solve(const VecXd& b, VecXd& x) const { x = llt_.solve(b); }
+	void solve(const VecXd& b, VecXd& x) const
+	{
+		if (size() == 0) x.resize(0);
+		else x = llt_.solve(b);
+	}
 
 	// x = A⁻¹ b, with block row i of A at block blockOf[i] of b and x (x's other blocks are left as they are).
 	void solve(const VecXd& b, VecXd& x, const std::vector<int>& blockOf) const
 	{
+		if (size() == 0) return;
 		work_.resize(6 * size());
 		for (int i = 0; i < size(); ++i)
 			work_.segment<6>(6 * i) = b.segment<6>(6 * blockOf[i]);
@@ -63,13 +73,13 @@ public:
 	size_t offDiagonalBlocks() const { return static_cast<size_t>(std::max(0.0, (lnz() - 21.0 * size()) / 36.0)); }
 	// The work of one factorisation and of one solve in 6×6 block × 6-vector products (72 flops), from
 	// CHOLMOD's flop count and L's entries: what the implicit solver weighs to decide when a refresh pays.
-	double factorisationWork() const { return const_cast<CholmodLLT&>(llt_).cholmod().fl / 72.0; }
+	double factorisationWork() const { return size() == 0 ? 0.0 : const_cast<CholmodLLT&>(llt_).cholmod().fl / 72.0; }
 	double solveWork() const { return 4.0 * lnz() / 72.0; }
 
 private:
 	using CholmodLLT = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
 
-	double lnz() const { return const_cast<CholmodLLT&>(llt_).cholmod().lnz; }
+	double lnz() const { return size() == 0 ? 0.0 : const_cast<CholmodLLT&>(llt_).cholmod().lnz; }
 
 	// The lower triangle, column by column: the diagonal block's rows from the column down, then the
 	// blocks below it (Aᵀ of the pair's upper block).  A = nullptr: the pattern, with zeros.
