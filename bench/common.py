@@ -112,6 +112,17 @@ def load(bed_path, config, dt=1e-9):
     O.trackEnergy = False
 
 
+def random_velocities(speed=0.01, seed=3):
+    """Give every dynamic body a random velocity of up to `speed` per component, so that the implicit
+    solver has work at every step."""
+    import random
+    from yade import O
+    rng = random.Random(seed)
+    for b in O.bodies:
+        if b.dynamic:
+            b.state.vel = tuple(rng.uniform(-speed, speed) for _ in range(3))
+
+
 def engine_seconds_per_step(steps):
     """Run `steps` steps and return the summed engine time per step [s] (YADE's timers)."""
     from yade import O

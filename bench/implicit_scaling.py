@@ -17,7 +17,6 @@
 # process's maximum resident set (getrusage), bed and YADE included.
 import json
 import os
-import random
 import resource
 import subprocess
 import sys
@@ -49,10 +48,7 @@ def worker(kind, n, integration, preconditioner, out):
     from yade import O
     import yade.wrapper as yw
     (random_bed if kind == 'random' else lattice_bed)(n, integration)
-    rng = random.Random(3)
-    for b in O.bodies:
-        if b.dynamic:
-            b.state.vel = tuple(rng.uniform(-0.01, 0.01) for _ in range(3))
+    common.random_velocities()
     O.dt = DT_IMPLICIT if integration == 'implicit' else 1e-9
     O.trackEnergy = False
     solver = next((e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver)), None)

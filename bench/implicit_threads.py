@@ -10,7 +10,6 @@
 # ROUNDS interleaved rounds of 1 and 2 threads.
 import json
 import os
-import random
 import subprocess
 import sys
 import tempfile
@@ -26,10 +25,7 @@ SPLIT = ('timeGather', 'timeFactorise', 'timeSolve', 'timeProducts', 'timePrecon
 def bed():
     from yade import O
     common.lattice(SIDE, SIDE, LAYERS, radius=R, viscosity=100.0, integration='implicit', timeStepper=False, guard=False)
-    rng = random.Random(3)
-    for b in O.bodies:
-        if b.dynamic:
-            b.state.vel = tuple(rng.uniform(-0.01, 0.01) for _ in range(3))
+    common.random_velocities()
     O.dt = 5e-6
 
 

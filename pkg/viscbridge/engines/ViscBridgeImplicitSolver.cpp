@@ -143,7 +143,8 @@ ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const Newton
 	g.bodies.resize(nBodies);
 	g.system.resize(nBridges);
 	g.pattern.resize(nBodies + nBridges);
-	const auto own = distributed::ownership(scene); // [MPI] a rank solves for its own bodies
+	const auto own      = distributed::ownership(scene); // [MPI] a rank solves for its own bodies
+	const bool branches = preconditioner == preconditionerNames[1]; // only the multigrid reads them (its rigid motions)
 #pragma omp parallel
 	{
 #pragma omp for schedule(static)
@@ -163,8 +164,9 @@ ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const Newton
 			c.block.r1 += armInClump(g.ends[k][0]);
 			c.block.r2 += armInClump(g.ends[k][1]);
 			c.shiftVel          = scene->isPeriodic ? Vector3r(scene->cell->intrShiftVel(g.described[k]->cellDist)) : Vector3r::Zero();
-			c.branch            = Body::byId(g.ids[c.body2], scene)->state->pos - Body::byId(g.ids[c.body1], scene)->state->pos
-			        + (scene->isPeriodic ? Vector3r(scene->cell->intrShiftPos(g.described[k]->cellDist)) : Vector3r::Zero());
+			if (branches)
+				c.branch = Body::byId(g.ids[c.body2], scene)->state->pos - Body::byId(g.ids[c.body1], scene)->state->pos
+				        + (scene->isPeriodic ? Vector3r(scene->cell->intrShiftPos(g.described[k]->cellDist)) : Vector3r::Zero());
 			g.pattern[nBodies + k] = -(static_cast<long>(std::min(c.body1, c.body2)) * (1L << 31) + std::max(c.body1, c.body2)) - 1;
 		}
 	}

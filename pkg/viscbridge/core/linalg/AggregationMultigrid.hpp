@@ -50,8 +50,6 @@ public:
 	void solve(const VecXd& b, VecXd& x) const { cycle(0, b, x); }
 
 	int levels() const { return static_cast<int>(levels_.size()) + 1; }
-	int rowsAt(int level) const { return level < static_cast<int>(levels_.size()) ? levels_[level].A.size() : coarsest_.size(); }
-	const CholmodFactor& coarsest() const { return coarsest_; }
 
 	// The work of one cycle and of one build, in 6×6 block × 6-vector products (a block triple product
 	// of the Galerkin projection is twelve of them), as CholmodFactor counts its own.

@@ -55,18 +55,6 @@ public:
 		else x = llt_.solve(b);
 	}
 
-	// x = A⁻¹ b, with block row i of A at block blockOf[i] of b and x (x's other blocks are left as they are).
-	void solve(const VecXd& b, VecXd& x, const std::vector<int>& blockOf) const
-	{
-		if (size() == 0) return;
-		work_.resize(6 * size());
-		for (int i = 0; i < size(); ++i)
-			work_.segment<6>(6 * i) = b.segment<6>(6 * blockOf[i]);
-		work_ = llt_.solve(work_);
-		for (int i = 0; i < size(); ++i)
-			x.segment<6>(6 * blockOf[i]) = work_.segment<6>(6 * i);
-	}
-
 	bool factorised() const { return factorised_; }
 	int  size() const { return static_cast<int>(below_.size()); }
 	// 6×6 blocks' worth of L below its diagonal blocks (fill included), from CHOLMOD's count of L's entries.
@@ -105,7 +93,6 @@ private:
 	size_t                                       pairCount_ = 0;
 	Eigen::SparseMatrix<double>                  lower_;
 	CholmodLLT                                   llt_;
-	mutable VecXd                                work_;
 	bool                                         analysed_ = false, factorised_ = false;
 };
 

@@ -30,12 +30,18 @@ public:
 	virtual size_t storedBlocks() const = 0; // 6×6 blocks below the diagonal it keeps (memory)
 	virtual int    levels() const { return 1; }
 
+	// z ≈ A⁻¹ r: r's blocks of the rows' bodies gathered, solved on the rows, scattered back.
 	void apply(const VecXd& r, VecXd& z) const override
 	{
 		if (z.size() != r.size()) z.setZero(r.size());
 		for (const int i : prescribedBodies_)
 			z.segment<6>(6 * i).setZero();
-		applyToRows(r, z);
+		rows_.resize(6 * bodyOfRow_.size());
+		for (size_t i = 0; i < bodyOfRow_.size(); ++i)
+			rows_.segment<6>(6 * i) = r.segment<6>(6 * bodyOfRow_[i]);
+		solveRows(rows_, solution_);
+		for (size_t i = 0; i < bodyOfRow_.size(); ++i)
+			z.segment<6>(6 * bodyOfRow_[i]) = solution_.segment<6>(6 * i);
 	}
 
 protected:
@@ -55,11 +61,14 @@ protected:
 	}
 	virtual double refreshWork() const                              = 0;
 	virtual double applicationWork() const                          = 0;
-	virtual void   applyToRows(const VecXd& r, VecXd& z) const = 0; // z's block of each row's body from r's
+	virtual void   solveRows(const VecXd& b, VecXd& x) const = 0; // x ≈ A⁻¹ b on the block rows
 
 	std::vector<int> bodyOfRow_, prescribedBodies_; // the system's body of each block row; bodies without a free component
 	size_t           size_  = 0;
 	bool             ready_ = false;
+
+private:
+	mutable VecXd rows_, solution_; // workspace of an application
 };
 
 class LaggedCholesky : public LaggedPreconditioner {
@@ -70,13 +79,12 @@ public:
 		if (!samePattern || !factor_.factorised() || factor_.size() != A.size()) factor_.analyse(A.size(), A.pairs);
 		return ready_ = factor_.factorise(A);
 	}
-	size_t               storedBlocks() const override { return factor_.offDiagonalBlocks(); }
-	const CholmodFactor& factor() const { return factor_; }
+	size_t storedBlocks() const override { return factor_.offDiagonalBlocks(); }
 
 private:
 	double refreshWork() const override { return factor_.factorisationWork(); }
 	double applicationWork() const override { return factor_.solveWork(); }
-	void   applyToRows(const VecXd& r, VecXd& z) const override { factor_.solve(r, z, bodyOfRow_); }
+	void   solveRows(const VecXd& b, VecXd& x) const override { factor_.solve(b, x); }
 
 	CholmodFactor factor_;
 };
@@ -93,26 +101,16 @@ public:
 			free[i] = system.bodies()[bodyOfRow_[i]].free;
 		return ready_ = cycle_.build(std::move(A), std::move(branch), free, coarsestRows_);
 	}
-	size_t                      storedBlocks() const override { return cycle_.storedBlocks(); }
-	int                         levels() const override { return cycle_.levels(); }
-	const AggregationMultigrid& cycle() const { return cycle_; }
+	size_t storedBlocks() const override { return cycle_.storedBlocks(); }
+	int    levels() const override { return cycle_.levels(); }
 
 private:
 	double refreshWork() const override { return cycle_.buildWork(); }
 	double applicationWork() const override { return cycle_.cycleWork(); }
-	void   applyToRows(const VecXd& r, VecXd& z) const override
-	{
-		rows_.resize(6 * bodyOfRow_.size());
-		for (size_t i = 0; i < bodyOfRow_.size(); ++i)
-			rows_.segment<6>(6 * i) = r.segment<6>(6 * bodyOfRow_[i]);
-		cycle_.solve(rows_, solution_);
-		for (size_t i = 0; i < bodyOfRow_.size(); ++i)
-			z.segment<6>(6 * bodyOfRow_[i]) = solution_.segment<6>(6 * i);
-	}
+	void   solveRows(const VecXd& b, VecXd& x) const override { cycle_.solve(b, x); }
 
 	int                  coarsestRows_;
 	AggregationMultigrid cycle_;
-	mutable VecXd        rows_, solution_; // workspace of an application
 };
 
 } // namespace viscbridge
