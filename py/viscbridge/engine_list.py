@@ -11,9 +11,13 @@ Ip2/Law2, NewtonIntegrator with gravity and *no* numerical damping (the liquid i
 import yade.wrapper as yw
 
 from . import _checks, criteria  # noqa: F401  (criteria: a name of this module before)
-from .planning.inputs import INTEGRATIONS
+from ._registry import INTEGRATIONS
 
-__all__ = ['engines', 'bridge_parameters', 'ip2_defaults']
+#: What engines(integration=...) accepts: a scheme of the law, or 'auto' (ViscBridgeTimeStepper
+#: switches between them per phase: autoIntegration, physics.md A5).
+ENGINE_INTEGRATIONS = INTEGRATIONS + ('auto',)
+
+__all__ = ['engines', 'bridge_parameters', 'ip2_defaults', 'check_accuracy', 'ENGINE_INTEGRATIONS']
 
 
 def ip2_defaults():
@@ -61,8 +65,8 @@ def _detection_range(formationDistance, minRadius):
     return 1.0 + reach / minRadius, 1.0 + reach / (2.0 * minRadius), reach, 1.0 + reach / minRadius
 
 
-def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, safety=None, guard=True,
-            minRadius=None, label_prefix='', ruptureSplit='half', minBridgeVolume=0.0, kinematic=(), **effects):
+def engines(gravity=(0, 0, -9.81), integration=None, timeStepper=True, safety=None, guard=True,
+            minRadius=None, label_prefix='', ruptureSplit='half', minBridgeVolume=0.0, kinematic=(), accuracy=None, **effects):
     """Return ``O.engines`` for a wet scene.
 
     Keyword arguments of :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys` select the effects and the
@@ -75,8 +79,14 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
     interaction loop; set the films with :mod:`viscbridge.liquid`).  Invalid values raise ValueError
     naming the parameter.
 
-    integration: 'explicit' or 'implicit' (viscous forces by backward Euler over the contact
-        network, with the ViscBridgeImplicitSolver engine inserted before the integrator).
+    integration: 'explicit', 'implicit' (viscous forces by backward Euler over the contact
+        network, with the ViscBridgeImplicitSolver engine inserted before the integrator) or 'auto'
+        (both engines; the time stepper switches the law between the schemes, whichever is
+        cheaper for the step stability and `accuracy` allow: ViscBridgeTimeStepper.autoIntegration).
+        Default: 'auto' with `accuracy`, else 'explicit'.
+    accuracy: tolerance on the run's relative error, in (0, 1) (ViscBridgeTimeStepper.accuracy:
+        the stepper also keeps dt at the step its error estimate allows; docs/timestep.md), or None
+        (dt from stability alone).  Needs timeStepper=True.
     timeStepper: add ViscBridgeTimeStepper (sets O.dt from the live contacts); ``safety`` is its
         safety factor (None: the stepper's default).  With timeStepper=False set O.dt yourself.
     guard: add ViscBridgeGuard, which stops the run before a blow-up spreads.
@@ -91,9 +101,13 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
     minBridgeVolume: with liquidModel='film', the least liquid [m³] a bridge forms from
         (ViscBridgeLiquid.minBridgeVolume; 0: any liquid).
     """
+    check_accuracy(accuracy, timeStepper)
+    if integration is None:
+        integration = 'explicit' if accuracy is None else 'auto'
     gravity, ip2_args = _checked_engine_args(gravity, integration, timeStepper, safety, guard, label_prefix, effects)
     ip2 = yw.Ip2_FrictMat_FrictMat_ViscBridgePhys(label=label_prefix + 'viscBridgeIp2', **ip2_args)
-    law = yw.Law2_ScGeom_ViscBridgePhys_HertzViscous(label=label_prefix + 'viscBridgeLaw', integration=integration)
+    law = yw.Law2_ScGeom_ViscBridgePhys_HertzViscous(label=label_prefix + 'viscBridgeLaw',
+                                                     integration='explicit' if integration == 'auto' else integration)
     out = []
     if guard and hasattr(yw, 'ViscBridgeGuard'):
         # first: it checks the scene before the interaction loop could crash on it, and sees the
@@ -108,8 +122,10 @@ def engines(gravity=(0, 0, -9.81), integration='explicit', timeStepper=True, saf
         raise ValueError("engines(minBridgeVolume=%r): a threshold on the liquid a bridge forms from needs liquidModel='film'" % (minBridgeVolume,))
     if timeStepper and hasattr(yw, 'ViscBridgeTimeStepper'):
         kw = {} if safety is None else {'safety': safety}
-        out.append(yw.ViscBridgeTimeStepper(label=label_prefix + 'timeStepper', **kw))
-    if integration == 'implicit' and hasattr(yw, 'ViscBridgeImplicitSolver'):
+        if accuracy is not None:
+            kw['accuracy'] = accuracy
+        out.append(yw.ViscBridgeTimeStepper(label=label_prefix + 'timeStepper', autoIntegration=integration == 'auto', **kw))
+    if integration in ('implicit', 'auto') and hasattr(yw, 'ViscBridgeImplicitSolver'):
         out.append(yw.ViscBridgeImplicitSolver(label=label_prefix + 'implicitSolver'))
     kinematic = list(kinematic)
     if not all(isinstance(e, yw.Engine) for e in kinematic):
@@ -129,7 +145,10 @@ def _checked_engine_args(gravity, integration, timeStepper, safety, guard, label
         checked = None
     if checked is None or len(checked) != 3:
         _checks.reject(f, 'gravity', gravity, 'three finite numbers [m/s²], e.g. (0, 0, -9.81)')
-    _checks.choice(f, 'integration', integration, INTEGRATIONS)
+    _checks.choice(f, 'integration', integration, ENGINE_INTEGRATIONS)
+    if integration == 'auto' and not timeStepper:
+        raise ValueError("engines(integration='auto', timeStepper=False): the time stepper chooses the scheme; "
+                         "allowed with timeStepper=False: integration='explicit' or 'implicit'")
     _checks.boolean(f, 'timeStepper', timeStepper)
     _checks.boolean(f, 'guard', guard)
     if safety is not None:
@@ -139,13 +158,24 @@ def _checked_engine_args(gravity, integration, timeStepper, safety, guard, label
     ip2_args, rest = bridge_parameters(**effects)
     if rest:
         raise ValueError('engines(): unknown parameter(s) %s; allowed: %s, gravity, integration, '
-                         'timeStepper, safety, guard, minRadius, label_prefix, ruptureSplit, kinematic'
+                         'timeStepper, safety, guard, minRadius, label_prefix, ruptureSplit, kinematic, accuracy'
                          % (', '.join(sorted(rest)), ', '.join(sorted(ip2_defaults()))))
-    if integration == 'implicit' and ip2_args.get('tangentialModel') == 'washino':
-        raise ValueError("engines(integration='implicit', tangentialModel='washino'): 'washino' is not dissipative "
-                         "(physics.md P7) and cannot be integrated implicitly; allowed with integration='implicit': "
-                         "tangentialModel='none', 'slip', 'goldman'")
+    if integration in ('implicit', 'auto') and ip2_args.get('tangentialModel') == 'washino':
+        raise ValueError("engines(integration=%r, tangentialModel='washino'): 'washino' is not dissipative "
+                         "(physics.md P7) and cannot be integrated implicitly; allowed with integration=%r: "
+                         "tangentialModel='none', 'slip', 'goldman'" % (integration, integration))
     return checked, ip2_args
+
+
+def check_accuracy(accuracy, timeStepper, func='engines'):
+    """accuracy: None, or a tolerance in (0, 1) that the time stepper applies."""
+    if accuracy is None:
+        return
+    _checks.in_range(func, 'accuracy', accuracy, 0, 1, lo_open=True, hi_open=True,
+                     unit=' (a relative error, e.g. 1e-2; None: no tolerance)')
+    if not timeStepper:
+        raise ValueError('%s(accuracy=%r) with a fixed time step: the time stepper applies the tolerance; '
+                         'allowed with a fixed time step: accuracy=None' % (func, accuracy))
 
 
 def _contact_engines(ip2, law, minRadius, label_prefix):

@@ -1,31 +1,11 @@
 """Energy accounting of a small wet settling run: with NewtonIntegrator's kinetic and gravWork and
 the law's dissipation and elastic terms, O.energy.total() stays within 1 % of |gravWork|."""
-import random
 
 import pytest
 from yade import O, utils
 
 import viscbridge
-from viscbridge import criteria
-from wetpairs import R, RHO, material
-
-
-def wet_box(n=40, mu=0.01, tangential='slip', seed=1):
-    mat = material(young=1e7, friction=0.4)
-    L = 8 * R
-    O.bodies.append([utils.wall(0, axis=2, material=mat), utils.wall(0, axis=0, material=mat),
-                     utils.wall(L, axis=0, material=mat), utils.wall(0, axis=1, material=mat),
-                     utils.wall(L, axis=1, material=mat)])
-    rng = random.Random(seed)
-    placed = []
-    while len(placed) < n:
-        p = (rng.uniform(R, L - R), rng.uniform(R, L - R), rng.uniform(R, 12 * R))
-        if all(sum((a - b) ** 2 for a, b in zip(p, q)) > (2.05 * R) ** 2 for q in placed):
-            placed.append(p)
-    O.bodies.append([utils.sphere(p, R, material=mat) for p in placed])
-    O.engines = viscbridge.engines(guard=False, viscosity=mu, tangentialModel=tangential, normalModel='adamsPerchard')
-    O.dt = 0.2 * criteria.rayleigh_time(R, RHO, 1e7, 0.3)  # the time stepper takes over from here
-    O.trackEnergy = True
+from wetpairs import R, RHO, material, wet_box
 
 
 @pytest.mark.parametrize('tangential', ['slip', 'goldman'])

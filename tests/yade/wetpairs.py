@@ -4,11 +4,13 @@ Lengths follow physics.md §5: r = 0.5 mm, ρ = 2500 kg/m³ (A = 6πμ r̄²/m* 
 spheres, 3.6 μ against a wall).
 """
 import math
+import random
 
 from yade import O, utils
 from yade.wrapper import FrictMat, PyRunner
 
 import viscbridge
+from viscbridge import criteria
 
 R = 0.5e-3
 RHO = 2500.0
@@ -75,3 +77,22 @@ def crossing(xs, ys, x0):
             t = (x0 - xs[i - 1]) / (xs[i] - xs[i - 1])
             return ys[i - 1] + t * (ys[i] - ys[i - 1])
     return None
+
+
+def wet_box(n=40, mu=0.01, tangential='slip', seed=1, **engine_options):
+    """n spheres dropped at random into a walled box 8 r wide (a wet settling run in small)."""
+    mat = material(young=1e7, friction=0.4)
+    L = 8 * R
+    O.bodies.append([utils.wall(0, axis=2, material=mat), utils.wall(0, axis=0, material=mat),
+                     utils.wall(L, axis=0, material=mat), utils.wall(0, axis=1, material=mat),
+                     utils.wall(L, axis=1, material=mat)])
+    rng = random.Random(seed)
+    placed = []
+    while len(placed) < n:
+        p = (rng.uniform(R, L - R), rng.uniform(R, L - R), rng.uniform(R, 12 * R))
+        if all(sum((a - b) ** 2 for a, b in zip(p, q)) > (2.05 * R) ** 2 for q in placed):
+            placed.append(p)
+    O.bodies.append([utils.sphere(p, R, material=mat) for p in placed])
+    O.engines = viscbridge.engines(guard=False, viscosity=mu, tangentialModel=tangential, normalModel='adamsPerchard', **engine_options)
+    O.dt = 0.2 * criteria.rayleigh_time(R, RHO, 1e7, 0.3)  # the time stepper takes over from here
+    O.trackEnergy = True

@@ -8,6 +8,7 @@
 #include "viscbridge/core/linalg/LaggedPreconditioner.hpp"
 #include "viscbridge/core/util/Validation.hpp"
 #include "viscbridge/scene/SceneValidation.hpp"
+#include "viscbridge/yade/ViscBridgeContext.hpp"
 #include <core/Clump.hpp>
 #include <core/Scene.hpp>
 #include <pkg/dem/NewtonIntegrator.hpp>
@@ -102,6 +103,54 @@ void ViscBridgeImplicitSolver::action()
 	lap(timeApply);
 	bookEnergy(sys, g, x, R);
 	lap(timeEnergy);
+	if (ViscBridgeContext::hasEngine(scene, "ViscBridgeTimeStepper")) filterStepError(sys, g.ids, x, pre);
+}
+
+// A1a: the error of this step against its trapezoidal companion is half the change of the velocity
+// increments, ½(Δv_n − Δv_{n−1}) (per body: a force that changes over the step, the viscous one
+// included).  Backward Euler follows that only as far as (M + Δt D)⁻¹ M lets it: filtered twice by
+// this step's system — the filtered estimate of stiff solvers, which scales like the true error
+// both where Δt·C/m is small (z²/2) and large (1/z), so that the stiff relaxations of the network do
+// not count as errors while its soft, collective motions do.  Two more solves with this step's
+// system and preconditioner, to a loose tolerance.
+void ViscBridgeImplicitSolver::filterStepError(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+                                               const vb::Preconditioner* pre)
+{
+	const size_t          n     = scene->bodies->size();
+	static const Vector3r none  = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
+	const bool            valid = previousChange.size() == n && previousChangeIter == scene->iter - 1 && !distributed::active(scene);
+	std::vector<vb::SystemBody>   bodies  = sys.bodies();
+	std::vector<vb::SystemBridge> bridges = sys.bridges();
+	for (auto& c : bridges)
+		c.shiftVel.setZero();
+	std::vector<Vector3r> change(n, none);
+	for (size_t i = 0; i < ids.size(); ++i) {
+		vb::SystemBody& b   = bodies[i];
+		change[ids[i]]      = x.segment<3>(6 * static_cast<long>(i)) - b.vel;
+		const Vector3r& was = valid ? previousChange[ids[i]] : none;
+		b.vel               = was.allFinite() ? Vector3r(0.5 * (change[ids[i]] - was)) : Vector3r::Zero();
+		for (int d = 0; d < 3; ++d)
+			if (!b.free[d]) b.vel[d] = 0;
+		b.angVel.setZero(), b.force.setZero(), b.torque.setZero();
+	}
+	previousChange.swap(change);
+	previousChangeIter = scene->iter;
+	stepErrorCovered.assign(n, 0);
+	stepErrorSq   = 0;
+	stepErrorIter = -1;
+	if (!valid) return;
+	Eigen::VectorXd dv = Eigen::VectorXd::Zero(static_cast<long>(sys.size()));
+	for (int pass = 0; pass < 2; ++pass) {
+		const vb::ImplicitViscousSystem filter(bodies, bridges, scene->dt);
+		filter.solve(dv, 1e-3, 100, pre); // an estimate: a loose tolerance, whatever CG reached
+		for (size_t i = 0; i < ids.size(); ++i)
+			bodies[i].vel = dv.segment<3>(6 * static_cast<long>(i));
+	}
+	for (size_t i = 0; i < ids.size(); ++i) {
+		stepErrorSq += bodies[i].mass * bodies[i].vel.squaredNorm();
+		stepErrorCovered[ids[i]] = 1;
+	}
+	stepErrorIter = scene->iter;
 }
 
 const NewtonIntegrator& ViscBridgeImplicitSolver::checkScene()

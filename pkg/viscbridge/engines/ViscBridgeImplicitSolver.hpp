@@ -8,6 +8,7 @@
 #include "viscbridge/core/linalg/LaggedPreconditioner.hpp"
 #include "viscbridge/core/models/EnergyKeys.hpp"
 #include "viscbridge/yade/AttributeRollback.hpp"
+#include "viscbridge/yade/StepErrorSource.hpp"
 #include <lib/base/openmp-accu.hpp>
 
 namespace yade {
@@ -19,7 +20,7 @@ namespace distributed {
 	struct Ownership;
 }
 
-class ViscBridgeImplicitSolver : public GlobalEngine {
+class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	// the warm start (per body id: the last solve's viscous forces), attached to the scene
 	shared_ptr<ViscBridgeImplicitWarmStart> last;
 	// The lagged factorisation and what it was computed for (bodies, bridges, free components).
@@ -55,8 +56,20 @@ class ViscBridgeImplicitSolver : public GlobalEngine {
 	void applyForces(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
 	                 const std::vector<viscbridge::BridgeResistance>& R);
 	void bookEnergy(const viscbridge::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x, const std::vector<viscbridge::BridgeResistance>& R);
+	// [accuracy] the error of this step, filtered by its system (physics.md A1a): for the time
+	// stepper (StepErrorSource), Σ m|δv|² at step stepErrorIter and the bodies it covers
+	long                  stepErrorIter = -1;
+	Real                  stepErrorSq   = 0;
+	std::vector<char>     stepErrorCovered;
+	std::vector<Vector3r> previousChange; // per body id: v_{n+1/2} − v_{n−1/2} of the last solve (NaN: none)
+	long                  previousChangeIter = -1;
+	void filterStepError(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+	                     const viscbridge::Preconditioner* pre);
 
 public:
+	long                     stepErrorStep() const override { return stepErrorIter; }
+	Real                     stepErrorSquared() const override { return stepErrorSq; }
+	const std::vector<char>& stepErrorCovers() const override { return stepErrorCovered; }
 	void action() override;
 	void postLoad(ViscBridgeImplicitSolver&);
 	// Saving refreshes the factorisation at the next step, as loading must (the factor is not saved):

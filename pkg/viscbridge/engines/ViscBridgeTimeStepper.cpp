@@ -12,6 +12,8 @@
 
 namespace yade {
 
+namespace vb = viscbridge;
+
 CREATE_LOGGER(ViscBridgeTimeStepper);
 
 void ViscBridgeTimeStepper::postLoad(ViscBridgeTimeStepper&)
@@ -25,6 +27,8 @@ void ViscBridgeTimeStepper::postLoad(ViscBridgeTimeStepper&)
 		viscbridge::requireInRange(name, "tolerance", tolerance, 0, true, 0.1, false);
 		viscbridge::requireInRange(name, "maxIterations", maxIterations, 1, false, 1e6, false);
 		viscbridge::requireInRange(name, "maxInterval", maxInterval, 1, false, 1e9, false);
+		if (accuracy != 0 && !(accuracy > 0 && accuracy < 1)) viscbridge::rejectValue(name, "accuracy", accuracy, "(0, 1), or 0 for none");
+		viscbridge::requireInRange(name, "implicitCost", implicitCost, 1, false, 1e6, false);
 	});
 	restoreSavedState();
 }
@@ -187,6 +191,7 @@ void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 			validatedSignature = signature;
 		}
 	});
+	const Real accuracyLimit = accuracyStep(sc); // the last step's error, before anything changes dt
 	const bool due = lastUpdateIter < 0 || sc->iter - lastUpdateIter >= std::min(updateInterval, fullUpdateCap());
 	addFormedBridges(sc);
 	// a scene just loaded has new engine objects (a new signature) but the saved state is its own
@@ -210,14 +215,21 @@ void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 		criticalBody = !criticalBodies.empty() ? criticalBodies.front() : bound.criticalBody;
 	}
 	agreeWithOtherRanks(sc); // [MPI] the smallest limit of all ranks, the same dt on all of them
-	Real dt = dtBound;
+	const Real accuracyStepNow = accuracy > 0 && !accuracyEstimate.started() ? vb::AccuracyEstimate::firstStep(dtBound, accuracy) : accuracyLimit;
+	if (accuracyStepNow < dtBound) governing = "accuracy";
+	chooseScheme(sc, accuracyLimit);
+	Real dt = std::min(dtBound, accuracyStepNow);
 	if (maxDt > 0) dt = std::min(dt, maxDt);
 	if (!std::isfinite(dt)) return; // nothing to bound (no dynamic spheres, no contacts): keep dt
 	if (!(dt > 0))
 		throw std::runtime_error("ViscBridgeTimeStepper: the time-step bound is " + viscbridge::formatValue(dt) + " s at body #"
 		                         + std::to_string(criticalBody) + "; check its radius, mass and material (all must be > 0 and finite).");
-	// growth is limited from a valid previous step only (O.dt <= 0 would otherwise stay there)
-	sc->dt = sc->dt > 0 ? std::min(dt, maxGrowth * sc->dt) : dt;
+	// growth is limited from a valid previous step only (O.dt <= 0 would otherwise stay there), and
+	// not at the first step of another scheme (its limit is a new one, computed at this step)
+	const bool newScheme = lastSwitchIter >= 0 && lastSwitchIter == sc->iter - 1;
+	// with a tolerance, the controller sets the pace of growth (A4)
+	const Real growth = accuracy > 0 ? std::max(maxGrowth, vb::AccuracyEstimate::growth) : maxGrowth;
+	sc->dt            = sc->dt > 0 && !newScheme ? std::min(dt, growth * sc->dt) : dt;
 }
 
 } // namespace yade

@@ -5,9 +5,12 @@
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include "viscbridge/yade/AttributeRollback.hpp"
 #include "viscbridge/scene/NetworkTimeStepBound.hpp"
+#include "viscbridge/core/timestep/AccuracyControl.hpp"
 #include <core/TimeStepper.hpp>
 
 namespace yade {
+
+class Law2_ScGeom_ViscBridgePhys_HertzViscous;
 
 class ViscBridgeTimeStepper : public TimeStepper {
 	NetworkTimeStepBound          bound;   // P14 and the Rayleigh bound
@@ -27,8 +30,20 @@ class ViscBridgeTimeStepper : public TimeStepper {
 	std::vector<size_t>           savedBridges; // bridgeKeys() of the saved scene, sorted: the bridges the state knows
 	void                          restoreSavedState();
 	bool                          resumesSavedState(Scene*);
-	AttributeRollback<Real, Real, Real, Real, Real, int, int> rollback;
-	auto checked() { return std::tie(safety, maxGrowth, rayleighFraction, maxDt, tolerance, maxIterations, maxInterval); }
+	AttributeRollback<Real, Real, Real, Real, Real, int, int, Real, Real> rollback;
+	auto checked() { return std::tie(safety, maxGrowth, rayleighFraction, maxDt, tolerance, maxIterations, maxInterval, accuracy, implicitCost); }
+	// [accuracy] ViscBridgeTimeStepperAccuracy.cpp (physics.md §7a): each body's force a step ago,
+	// the run's error sums, and the limit of the scheme not running (P14) for the choice between them
+	std::vector<Vector3r>         previousForce;
+	long                          forceIter = -1, lastSwitchIter = -1;
+	viscbridge::AccuracyEstimate  accuracyEstimate;
+	NetworkTimeStepBound          otherBound;
+	viscbridge::StepMotion        lastStepMotion(Scene*);
+	Real                          accuracyStep(Scene*); // records the last step; the step the tolerance allows (inf: none)
+	Real                          otherSchemeLimit(Scene*, bool runningImplicit);
+	Law2_ScGeom_ViscBridgePhys_HertzViscous& lawToSwitch(Scene*);
+	void                          chooseScheme(Scene*, Real accuracyStepNow);
+	static constexpr long         minSchemeSteps = 50;
 
 	bool viscousImplicit() const;
 	void fullUpdate(Scene*);
@@ -57,6 +72,7 @@ public:
 	bool isActivated() override;
 	Real exactLimit();
 	void reset();
+	void resetErrorEstimate() { accuracyEstimate.reset(); errorEstimate = stepError = 0; }
 	void postLoad(ViscBridgeTimeStepper&);
 	void preSave(ViscBridgeTimeStepper&);
 	void postSave(ViscBridgeTimeStepper&);
@@ -100,7 +116,15 @@ public:
 		((Real,dtRitz,0,Attr::readonly,"safety × the limit of the mode's Rayleigh quotients: an upper bound of the true limit (the true one lies between dtNetwork and dtRitz) [s]."))
 		((Real,dtBound,0,Attr::readonly,"safety × the combined bound, before the growth limit and maxDt [s]."))
 		((Real,errorBound,0,Attr::readonly,"Relative width of the bracket of the true limit: (dtRitz − dtNetwork)/dtRitz."))
-		((string,governing,"collision",Attr::readonly,"What sets dt: 'viscous-network' (a mode of the network dominated by the bridges' damping), 'collision' (one dominated by contact stiffness), or 'rayleigh' (the spheres' Rayleigh bound)."))
+		((string,governing,"collision",Attr::readonly,"What sets dt: 'viscous-network' (a mode of the network dominated by the bridges' damping), 'collision' (one dominated by contact stiffness), 'rayleigh' (the spheres' Rayleigh bound), or 'accuracy' (the step the tolerance `accuracy` allows is below the stability limit)."))
+		((Real,accuracy,0,Attr::triggerPostLoad|Attr::noSave,"Tolerance on the run's relative error, in (0, 1); 0: none (dt from stability alone). With a tolerance, dt is also at most the step at which the last step's error estimate (stepError) would meet it (physics.md A4: first order, with a margin 0.9, shrinking at most 5× per step, growing at most maxGrowth×), so the run's error — positions against their distance travelled, as bench/accuracy_cost.py measures it — stays near the tolerance (docs/timestep.md says where this holds). governing says 'accuracy' when it sets dt."))
+		((bool,autoIntegration,false,Attr::noSave,"Choose the scheme per phase of the run (physics.md A5): switch :yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous.integration` between 'explicit' and 'implicit' at full updates, whichever is cheaper for the step that stability and `accuracy` allow, an implicit step costing implicitCost explicit ones (needs :yref:`ViscBridgeImplicitSolver` in O.engines: viscbridge.engines(integration='auto') sets all up). The limit of the scheme not running is its rigorous bound P14, so a switch errs on the side of staying. scheme and schemeSwitches say which ran."))
+		((Real,implicitCost,3,Attr::triggerPostLoad|Attr::noSave,"With autoIntegration: the cost of an implicit step in explicit steps, >= 1 (2–4 measured on beds of 300 spheres, 4–14 on 10³–10⁴: docs/performance.md §8b)."))
+		((string,scheme,"",Attr::readonly|Attr::noSave,"The scheme of the viscous forces at the last step: 'explicit' or 'implicit'."))
+		((long,schemeSwitches,0,Attr::readonly|Attr::noSave,"Switches of the scheme made by autoIntegration."))
+		((Real,errorEstimate,0,Attr::readonly|Attr::noSave,"Estimated relative error of the run so far (physics.md A2): the position error of its steps against their second-order companions, Σ Δt|Δv|/2, relative to the distance travelled, Σ Δt|v̄| (RMS over the dynamic bodies, mass-weighted). Computed with or without `accuracy`; resetErrorEstimate() starts it afresh."))
+		((Real,stepError,0,Attr::readonly|Attr::noSave,"Estimated relative error of the last step (physics.md A3): |Δv|/2 relative to the larger of the run's mean speed and the current one."))
+		((Real,dtAccuracy,0,Attr::readonly|Attr::noSave,"The step the tolerance `accuracy` allows now (A4) [s]; inf without a tolerance or while nothing changes."))
 		((int,criticalBody,-1,Attr::readonly,"Id of the body with the largest share of the top mode (or of the smallest P14 or Rayleigh bound when that governs), -1 if none."))
 		((vector<int>,criticalBodies,,Attr::readonly,"Ids of the bodies carrying 90 % of the top mode, largest share first (at most 10; under yade.mpy, of this rank's part of the network)."))
 		((int,iterations,0,Attr::readonly,"Operator products of the last full update."))
@@ -116,6 +140,8 @@ public:
 		/* py */
 .def("reset", &ViscBridgeTimeStepper::reset,
 		     "Forget the mode and the corrections since the last full update: the next step starts the mode iteration afresh (viscbridge.mpi.to_serial() calls it: a merged scene holds one rank's part of them).")
+				.def("resetErrorEstimate", &ViscBridgeTimeStepper::resetErrorEstimate,
+		     "Start the error estimate afresh (errorEstimate, stepError): e.g. after preparing a scene, to report the accuracy of the run that follows.")
 				.def("exactLimit", &ViscBridgeTimeStepper::exactLimit,
 		     "The network limit of the current scene by a dense eigen-solution (O(n³) in the number of bodies: for small scenes and checks), without safety [s].")
 	);

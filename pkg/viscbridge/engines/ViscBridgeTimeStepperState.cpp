@@ -19,6 +19,7 @@
 namespace yade {
 
 namespace {
+	constexpr Real accuracyTrailer = -25; // marks the accuracy trailer (a count or signature is never negative)
 	constexpr Real stateLayout = 4; // bump when the packing below changes (2: without the bridges; 3: the signature counted the interactions)
 
 	// What the saved state belongs to: the same step, bodies, masses and integration (the bridges are
@@ -113,6 +114,12 @@ void ViscBridgeTimeStepper::preSave(ViscBridgeTimeStepper&)
 	const std::vector<size_t> bridges = saved ? bridgeKeys(saved) : std::vector<size_t>();
 	savedState.push_back(static_cast<Real>(bridges.size()));
 	for (const size_t key : bridges) packSignature(savedState, key);
+	// the accuracy settings and the run's error sums (A2), a trailer older scenes do not have: the
+	// attributes themselves are not serialised, so that scenes saved before them keep loading
+	savedState.insert(savedState.end(), { accuracyTrailer, accuracy, Real(autoIntegration), implicitCost, Real(schemeSwitches) });
+	double sums[viscbridge::AccuracyEstimate::stateSize];
+	accuracyEstimate.save(sums);
+	savedState.insert(savedState.end(), sums, sums + viscbridge::AccuracyEstimate::stateSize);
 }
 
 void ViscBridgeTimeStepper::reset()
@@ -174,6 +181,14 @@ void ViscBridgeTimeStepper::restoreSavedState()
 	for (size_t& key : savedBridges) {
 		const Real h = r.next();
 		key          = unpackSignature(h, r.next());
+	}
+	if (r.at < savedState.size() && savedState[r.at] == accuracyTrailer) {
+		r.next();
+		accuracy = r.next(), autoIntegration = r.next() != 0, implicitCost = r.next(), schemeSwitches = static_cast<long>(r.next());
+		double sums[viscbridge::AccuracyEstimate::stateSize];
+		for (double& x : sums) x = r.next();
+		accuracyEstimate.restore(sums);
+		rollback.keep(checked());
 	}
 	savedState.clear();
 }

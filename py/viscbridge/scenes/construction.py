@@ -9,7 +9,7 @@ from yade import pack
 import yade.wrapper as yw
 
 from .. import _checks, criteria, liquid
-from ..engine_list import bridge_parameters, engines
+from ..engine_list import ENGINE_INTEGRATIONS, bridge_parameters, check_accuracy, engines
 from .runner import Settling
 
 __all__ = ['settling']
@@ -17,8 +17,8 @@ __all__ = ['settling']
 
 def settling(n=300, radius=0.5e-3, sizeRatio=1.0, density=2500.0, young=1e7, poisson=0.3, friction=0.5,
              viscosity=1.0, dt=None, safety=None, seed=1, width=None, height=None, periodic=False,
-             gravity=9.81, initialSpeed=0.0, integration='explicit', trackEnergy=True, guard=True,
-             cloudFraction=0.2, filmRel=0.0, **effects):
+             gravity=9.81, initialSpeed=0.0, integration=None, trackEnergy=True, guard=True,
+             cloudFraction=0.2, filmRel=0.0, accuracy=None, **effects):
     """Build a settling scene in O (which is reset) and return a :class:`Settling` handle.
 
     n spheres of mean radius `radius` [m] (radii uniform in a range with max/min = sizeRatio, 1–5)
@@ -33,13 +33,19 @@ def settling(n=300, radius=0.5e-3, sizeRatio=1.0, density=2500.0, young=1e7, poi
     :yref:`Ip2_FrictMat_FrictMat_ViscBridgePhys`.
 
     dt: a fixed time step [s], or None for ViscBridgeTimeStepper with `safety` (None: its default).
+    accuracy: a tolerance on the run's relative error, in (0, 1), or None: see viscbridge.engines
+        (with it, integration defaults to 'auto': the stepper picks the scheme and dt).
+    integration: 'explicit', 'implicit' or 'auto' (default: 'auto' with `accuracy`, else 'explicit').
     initialSpeed: random initial velocities of this magnitude [m/s] (to start with motion).
     filmRel: with liquidModel='film', every sphere's film as a fraction of its volume (0: dry; add
         liquid later with :mod:`viscbridge.liquid`).
     seed: random seed of the positions (and velocities).
     """
+    if integration is None:
+        integration = 'explicit' if accuracy is None else 'auto'
     _check_settling_args(n, radius, sizeRatio, density, young, poisson, friction, dt, safety, seed, width, height,
                          periodic, gravity, initialSpeed, integration, trackEnergy, guard)
+    check_accuracy(accuracy, dt is None, 'settling')
     _checks.in_range('settling', 'cloudFraction', cloudFraction, 0, 0.27, lo_open=True)
     _checks.in_range('settling', 'filmRel', filmRel, 0, 1)
     if filmRel > 0 and effects.get('liquidModel') != 'film':
@@ -61,7 +67,7 @@ def settling(n=300, radius=0.5e-3, sizeRatio=1.0, density=2500.0, young=1e7, poi
         _perturb(ids, initialSpeed, seed)
 
     O.engines = engines(gravity=(0, 0, -gravity), integration=integration, timeStepper=dt is None, safety=safety,
-                        guard=guard, minRadius=r_min, **ip2_args)
+                        guard=guard, minRadius=r_min, accuracy=accuracy, **ip2_args)
     # with the stepper, start from the collision bound: it only lets dt grow gradually
     O.dt = 0.2 * criteria.rayleigh_time(r_min, density, young, poisson) if dt is None else dt
     O.trackEnergy = trackEnergy
@@ -70,7 +76,7 @@ def settling(n=300, radius=0.5e-3, sizeRatio=1.0, density=2500.0, young=1e7, poi
     params = dict(n=n, radius=radius, sizeRatio=sizeRatio, density=density, young=young, poisson=poisson,
                   friction=friction, dt=dt, safety=safety, seed=seed, width=width, height=height,
                   periodic=periodic, gravity=gravity, initialSpeed=initialSpeed, integration=integration,
-                  cloudFraction=cloudFraction, filmRel=filmRel, sMin=0.0, sMinRel=1e-3)
+                  accuracy=accuracy, cloudFraction=cloudFraction, filmRel=filmRel, sMin=0.0, sMinRel=1e-3)
     params.update(ip2_args)
     return Settling(params, walls, {i: O.bodies[i].state.pos[2] for i in ids})
 
@@ -94,7 +100,7 @@ def _check_settling_args(n, radius, sizeRatio, density, young, poisson, friction
         _checks.in_range(f, 'safety', safety, 0, 1, lo_open=True)
     for name, value in (('periodic', periodic), ('trackEnergy', trackEnergy), ('guard', guard)):
         _checks.boolean(f, name, value)
-    _checks.choice(f, 'integration', integration, criteria.INTEGRATIONS)
+    _checks.choice(f, 'integration', integration, ENGINE_INTEGRATIONS)
 
 
 

@@ -49,11 +49,18 @@ class Settling:
         """The scene's ViscBridgeGuard, or None."""
         return next((e for e in O.engines if isinstance(e, yw.ViscBridgeGuard)), None)
 
+    def time_stepper(self):
+        """The scene's ViscBridgeTimeStepper, or None (a fixed time step)."""
+        return next((e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper)), None)
+
     # -- running --------------------------------------------------------------------------------
     def record(self):
         """Append one row to yade.plot.data (called by the scene's PyRunner)."""
         row = dict(t=O.time, iter=O.iter, dt=O.dt, Ek=self.kinetic_energy(), Ereleased=self.released_energy(),
                    bridges=self.bridges())
+        stepper = self.time_stepper()
+        if stepper is not None:  # how accurate the run was, and which scheme ran (physics.md A2, A5)
+            row.update(errorEstimate=stepper.errorEstimate, implicit=int(stepper.scheme == 'implicit'))
         if O.trackEnergy:
             row.update(('E_' + k, v) for k, v in O.energy.items())
             row['Etotal'] = O.energy.total()

@@ -1,0 +1,159 @@
+"""The cases of the accuracy benchmarks (bench/accuracy_cost.py, bench/accuracy_target.py): a scene
+followed for a time T and sampled every T/10, run at a fixed Δt or with the time stepper, and the
+error measures of docs/performance.md §1 against a reference run.
+
+Cases:
+  Bed45       a bed of 45 spheres (r = 0.5 mm, 2500 kg/m³, E = 10 MPa) settled dry in a narrow walled
+              column, then wetted (every contact a bridge, Adams–Perchard + slip, S_min = 1e-3 r̄)
+              and given random velocities of up to 1 cm/s; T = 1e-4 s.  The critical-Δt scans' trial.
+  Settling300 viscbridge.scenes.settling(n=300) with random initial speeds of 5 cm/s (bridges form in
+              the cloud as spheres meet) and the same liquid; T = 2e-3 s.
+
+Error measures, each relative to a reference run:
+  e_x  RMS over the spheres of |x(T) - x_ref(T)|, divided by the RMS displacement of the reference
+       over the run.
+  e_K  sum over the sample times of |K - K_ref|, divided by the sum of K_ref.
+  error = max(e_x, e_K).
+A run with the time stepper does not land on the sample times: it stops at the first step at or
+after each (O.stopAtTime), and the reference is carried to that instant with its slopes (dK/dt, and
+the velocities for the positions), a second-order correction.
+"""
+import math
+import os
+import random
+
+import common
+from yade import O, utils
+import yade.wrapper as yw
+
+import viscbridge
+import viscbridge.scan as scan
+from viscbridge.scenes import instability
+
+R = 0.5e-3
+SAMPLES = 10
+LIQUID = dict(sMinRel=1e-3, normalModel='adamsPerchard', tangentialModel='slip')
+
+
+class Bed45:
+    name = 'bed45'
+    T = 1e-4
+    PERTURBATION = 0.01
+
+    def __init__(self):
+        self.bed = scan.settled_bed(os.path.join(common.CACHE, 'narrow-bed-45.yade.gz'), n=45, radius=R, width=6 * R, seed=5)
+
+    def prepare(self, mu, integration, stepper=False, safety=None, accuracy=None):
+        O.load(self.bed)
+        O.interactions.clear()
+        O.engines = viscbridge.engines(viscosity=mu, integration=integration, timeStepper=stepper, safety=safety,
+                                       guard=False, minRadius=R, accuracy=accuracy, **LIQUID)
+        rng = random.Random(6)
+        for b in O.bodies:
+            if b.dynamic:
+                b.state.vel = tuple(rng.uniform(-self.PERTURBATION, self.PERTURBATION) for _ in range(3))
+        O.trackEnergy = False
+
+
+class Settling300:
+    name = 'settling300'
+    T = 2e-3
+
+    def prepare(self, mu, integration, stepper=False, safety=None, accuracy=None):
+        from viscbridge.scenes import settling
+        # a fixed dt here only selects the scene without the stepper: run_fixed sets the step
+        settling(n=300, viscosity=mu, initialSpeed=0.05, integration=integration, dt=None if stepper else 1.0,
+                 safety=safety, accuracy=accuracy, guard=False, trackEnergy=False, **LIQUID)
+
+
+CASES = {c.name: c for c in (Bed45, Settling300)}
+
+
+def _dynamic():
+    return [b.id for b in O.bodies if b.dynamic]
+
+
+def _start_timing():
+    O.timingEnabled = True
+    for e in O.engines:
+        e.execTime, e.execCount = 0, 0
+
+
+def _engine_seconds():
+    seconds = sum(e.execTime for e in O.engines) * 1e-9
+    O.timingEnabled = False
+    return seconds
+
+
+def _sampled(case, advance, slopes=False):
+    """Advance the prepared scene through the SAMPLES sample times: advance(t) runs up to time t.
+    Returns the record of the run (see run_fixed)."""
+    dyn = _dynamic()
+    x0 = {i: O.bodies[i].state.pos for i in dyn}
+    z0 = {i: O.bodies[i].state.pos[2] for i in dyn}
+    ke0, iter0, t0 = utils.kineticEnergy(), O.iter, O.time
+    _start_timing()
+    times, kinetic, slope, why = [], [], [], None
+    for j in range(1, SAMPLES + 1):
+        k_before = advance(t0 + j * case.T / SAMPLES, slopes)
+        ke = utils.kineticEnergy()
+        released = sum(O.bodies[i].state.mass * 9.81 * (z0[i] - O.bodies[i].state.pos[2]) for i in dyn)
+        why = instability(ke, released, ke0)
+        if why:
+            break
+        times.append(O.time - t0)
+        kinetic.append(ke)
+        if slopes:
+            slope.append((ke - k_before) / O.dt)
+    seconds = _engine_seconds()
+    solver = next((e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver)), None)
+    stepper = next((e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper)), None)
+    return dict(times=times, kinetic=kinetic, slopes=slope, x0=x0, seconds=seconds, steps=O.iter - iter0, why=why,
+                pos={i: O.bodies[i].state.pos for i in dyn}, vel={i: O.bodies[i].state.vel for i in dyn},
+                cg=solver.totalIterations / max(solver.solves, 1) if solver else None,
+                estimate=stepper.errorEstimate if stepper else None,
+                switches=stepper.schemeSwitches if stepper else None)
+
+
+def run_fixed(case, mu, integration, k, tolerance=None, slopes=False):
+    """Run T at Δt = T/SAMPLES/k (the implicit solver at `tolerance`, else its default).  With
+    `slopes`, also dK/dt at each sample (the reference of runs that do not land on the samples)."""
+    case.prepare(mu, integration)
+    O.dt = case.T / SAMPLES / k
+    if tolerance is not None:
+        next(e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver)).tolerance = tolerance
+
+    def advance(t, slopes):
+        O.run(k - 1 if slopes else k, True)
+        before = utils.kineticEnergy() if slopes else None
+        if slopes:
+            O.run(1, True)
+        return before
+    return _sampled(case, advance, slopes)
+
+
+def run_stepper(case, mu, integration=None, safety=None, accuracy=None):
+    """Run T with ViscBridgeTimeStepper (at `safety`, with the tolerance `accuracy`, integration
+    'auto' by default when it is given), stopping at the first step at or after each sample time."""
+    case.prepare(mu, integration, stepper=True, safety=safety, accuracy=accuracy)
+    O.dt = 0  # the stepper's first step sets it from its bound, without the growth limit
+
+    def advance(t, slopes):
+        O.stopAtTime = t
+        O.run()
+        O.wait()
+    return _sampled(case, advance)
+
+
+def errors(r, ref):
+    """(e_x, e_K) of run r against ref; the reference carried to r's sample instants by its slopes."""
+    if r['why'] or len(r['kinetic']) < SAMPLES:
+        return math.inf, math.inf
+    ids = list(ref['pos'])
+    shift = r['times'][-1] - ref['times'][-1]
+    rms = lambda vs: math.sqrt(sum(v.squaredNorm() for v in vs) / len(vs))  # noqa: E731
+    at_end = {i: ref['pos'][i] + shift * ref['vel'][i] for i in ids}
+    e_x = rms([r['pos'][i] - at_end[i] for i in ids]) / rms([ref['pos'][i] - ref['x0'][i] for i in ids])
+    k_ref = [k + (t - tr) * s for k, s, t, tr in zip(ref['kinetic'], ref['slopes'] or [0] * SAMPLES, r['times'], ref['times'])]
+    e_k = sum(abs(a - b) for a, b in zip(r['kinetic'], k_ref)) / sum(ref['kinetic'])
+    return e_x, e_k

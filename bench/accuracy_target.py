@@ -1,0 +1,142 @@
+# Accuracy as the input: the error a tolerance achieves and what it costs, against the oracle.
+#
+#   ./yadew run bench/accuracy_target.py [--cases bed45,settling300] [--mu 1,10,100,1000] [--tol 1e-1,1e-2,1e-3]
+#
+# For each case of bench/accuracy_case.py and each viscosity: a reference run; the runs with
+# viscbridge.engines(accuracy=tol) (integration 'auto': the stepper picks the scheme and Δt) for each
+# tolerance; and the oracle of each tolerance — the cheapest fixed setting (explicit with the time
+# stepper at safety 1, ½, ¼, …; implicit at a fixed Δt on a ladder) whose error meets it, found by
+# running the settings from the cheapest down.  Cost: wall-clock time of the engines (YADE's timers).
+# Goals (issue 25): achieved error <= tolerance, cost <= 2x the oracle's.
+import argparse
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))  # yade -x: __file__ is yade's own
+import accuracy_case as ac  # noqa: E402
+import common  # noqa: E402
+from yade import O  # noqa: E402
+
+parser = argparse.ArgumentParser()
+parser.add_argument('--cases', default='bed45,settling300')
+parser.add_argument('--mu', default='1,10,100,1000')
+parser.add_argument('--tol', default='1e-1,1e-2,1e-3')
+args = parser.parse_args(sys.argv[1:])
+CASES = [ac.CASES[c]() for c in args.cases.split(',')]
+VISCOSITIES = [float(m) for m in args.mu.split(',')]
+TOLERANCES = sorted((float(t) for t in args.tol.split(',')), reverse=True)
+SAFETIES = [1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125]
+# implicit Δt = T/10/k: k = 2 is 5e-6 s on bed45 (below its collision step), 32 is 6.25e-6 s on settling300
+IMPLICIT_K = {'bed45': [2, 4, 16, 64, 256, 1024], 'settling300': [32, 64, 128, 256, 1024]}
+REFERENCE_K = {'settling300': 4096}  # bed45: explicit at a quarter of the stepper's limit, as accuracy_cost
+
+
+def reference(case, mu):
+    """The reference run and its own error (the same scheme at twice the step)."""
+    if case.name in REFERENCE_K:
+        k, integration = REFERENCE_K[case.name], 'implicit'
+    else:
+        k, integration = max(1, round(case.T / ac.SAMPLES / (0.25 * limit_of(case, mu)))), 'explicit'
+    ref = ac.run_fixed(case, mu, integration, k, slopes=True)
+    assert not ref['why'], ref['why']
+    coarse = ac.run_fixed(case, mu, integration, max(1, k // 2))
+    return ref, max(ac.errors(coarse, ref)), integration, case.T / ac.SAMPLES / k
+
+
+def limit_of(case, mu):
+    """The explicit stepper's limit (safety 1) on the prepared scene [s]."""
+    import yade.wrapper as yw
+    case.prepare(mu, 'explicit', stepper=True, safety=1.0)
+    O.dt = 1e-12
+    O.run(2, True)
+    return next(e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper)).dtBound
+
+
+def row(case, mu, kind, setting, r, ref, tol=None):
+    e_x, e_k = ac.errors(r, ref)
+    out = dict(case=case.name, viscosity=mu, kind=kind, setting=setting, tolerance=tol, steps=r['steps'], seconds=r['seconds'],
+               error_positions=e_x, error_kinetic=e_k, error=max(e_x, e_k), estimate=r['estimate'], switches=r['switches'],
+               stopped=r['why'] or '')
+    print('  %-11s %-22s steps %8d  %8.3f s  error %.2e (e_x %.2e, e_K %.2e)%s%s' % (
+        kind, setting, r['steps'], r['seconds'], out['error'], e_x, e_k,
+        '  estimate %.2e, switches %d' % (r['estimate'], r['switches']) if r['estimate'] is not None else '',
+        ('  unstable: ' + r['why'][:50]) if r['why'] else ''))
+    sys.stdout.flush()
+    return out
+
+
+def oracle_rows(case, mu, ref, tightest):
+    """Fixed settings from the cheapest down, per scheme, until one meets the tightest tolerance."""
+    rows = []
+    for safety in SAFETIES:
+        rows.append(row(case, mu, 'explicit', 'stepper safety %g' % safety, ac.run_stepper(case, mu, 'explicit', safety=safety), ref))
+        if rows[-1]['error'] <= tightest:
+            break
+    for k in IMPLICIT_K[case.name]:
+        rows.append(row(case, mu, 'implicit', 'dt %.3g s' % (case.T / ac.SAMPLES / k), ac.run_fixed(case, mu, 'implicit', k), ref))
+        if rows[-1]['error'] <= tightest:
+            break
+    return rows
+
+
+rows, summary = [], []
+for case in CASES:
+    for mu in VISCOSITIES:
+        ref, ref_error, ref_scheme, ref_dt = reference(case, mu)
+        print('\n%s, μ = %g Pa·s: reference %s at dt %.3e s (%d steps; its own error ~%.1e)' % (
+            case.name, mu, ref_scheme, ref_dt, ref['steps'], ref_error))
+        fixed = oracle_rows(case, mu, ref, min(TOLERANCES))
+        rows += fixed
+        for tol in TOLERANCES:
+            mine = row(case, mu, 'accuracy', 'accuracy=%g' % tol, ac.run_stepper(case, mu, accuracy=tol), ref, tol)
+            rows.append(mine)
+            best = min((r for r in fixed if r['error'] <= tol), key=lambda r: r['seconds'], default=None)
+            summary.append(dict(case=case.name, viscosity=mu, tolerance=tol, reference_error=ref_error,
+                                error=mine['error'], estimate=mine['estimate'], seconds=mine['seconds'], steps=mine['steps'],
+                                switches=mine['switches'], oracle=best and '%s %s' % (best['kind'], best['setting']),
+                                oracle_error=best and best['error'], oracle_seconds=best and best['seconds'],
+                                oracle_steps=best and best['steps'],
+                                cost_ratio=best and mine['seconds'] / best['seconds'], error_ratio=mine['error'] / tol))
+
+common.write_rows(os.path.join(common.RESULTS, 'accuracy_target.csv'), rows)
+common.write_rows(os.path.join(common.RESULTS, 'accuracy_target_summary.csv'), summary)
+print('\n%-11s %6s %6s | %9s %9s %8s %7s | %-26s %9s %8s | %6s' % (
+    'case', 'μ', 'tol', 'error', 'estimate', 'wall [s]', 'steps', 'oracle', 'error', 'wall [s]', 'cost×'))
+for s in summary:
+    print('%-11s %6g %6g | %9.2e %9.2e %8.3f %7d | %-26s %9s %8s | %6s' % (
+        s['case'], s['viscosity'], s['tolerance'], s['error'], s['estimate'], s['seconds'], s['steps'], s['oracle'] or 'none',
+        '%.2e' % s['oracle_error'] if s['oracle'] else '-', '%.3f' % s['oracle_seconds'] if s['oracle'] else '-',
+        '%.2f' % s['cost_ratio'] if s['oracle'] else '-'))
+
+# --- figure: achieved error and cost ratio against the tolerance, one line per case and viscosity
+import matplotlib  # noqa: E402
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt  # noqa: E402
+
+fig, (ax_e, ax_c) = plt.subplots(1, 2, figsize=(10, 4.2))
+for n, case in enumerate(CASES):
+    for m, mu in enumerate(VISCOSITIES):
+        mine = [s for s in summary if s['case'] == case.name and s['viscosity'] == mu]
+        style = dict(color='C%d' % m, marker='os'[n % 2], ls='-' if n == 0 else '--', label='%s, μ = %g Pa·s' % (case.name, mu))
+        ax_e.loglog([s['tolerance'] for s in mine], [s['error'] for s in mine], **style)
+        pts = [(s['tolerance'], s['cost_ratio']) for s in mine if s['cost_ratio']]
+        if pts:
+            ax_c.semilogx(*zip(*pts), **style)
+lims = [min(TOLERANCES) / 3, max(TOLERANCES) * 3]
+ax_e.loglog(lims, lims, color='grey', ls=':', lw=1, label='error = tolerance')
+ax_e.set_xlabel('tolerance (accuracy=...)')
+ax_e.set_ylabel('achieved error against the reference')
+ax_e.legend(fontsize=6)
+ax_c.axhline(2, color='grey', ls=':', lw=1, label='goal: 2× the oracle')
+ax_c.axhline(1, color='grey', lw=0.5)
+ax_c.set_xlabel('tolerance (accuracy=...)')
+ax_c.set_ylabel('wall time / the oracle\'s (cheapest fixed setting that meets it)')
+ax_c.legend(fontsize=6)
+for a in (ax_e, ax_c):
+    a.grid(True, which='both', alpha=0.3)
+fig.suptitle('Accuracy as the input: achieved error and cost')
+fig.tight_layout()
+png = os.path.join(common.RESULTS, 'accuracy_target.png')
+fig.savefig(png, dpi=110)
+print('\nwritten', os.path.join(common.RESULTS, 'accuracy_target.csv'), png)

@@ -1,0 +1,89 @@
+// The error of a run estimated step by step, the time step a tolerance allows, and the cheaper of
+// the two schemes for that step (physics.md §7a, A1–A5).  YADE-free: the time stepper sums the
+// bodies' motion of each step into a StepMotion.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace viscbridge {
+
+// One step's motion and error, mass-weighted root mean squares over the dynamic bodies (A1).
+struct StepMotion {
+	double dt            = 0; // the step taken [s]
+	double speed         = 0; // of the velocity it moved the bodies with [m/s]
+	double velocityError = 0; // of each body's velocity error, A1; its position error is dt × this [m/s]
+};
+
+// A2–A3: the two measures of bench/accuracy_cost.py — positions against the distance travelled, and
+// the kinetic-energy history — accumulated over the run, and per step relative to the run's mean.
+class AccuracyEstimate {
+	double positionError = 0, path = 0;   // Σ Δt δv, Σ Δt |v|
+	double energyError = 0, energy = 0;   // Σ Δt 2|v|δv, Σ Δt |v|²  (kinetic energy per unit mass, ×2)
+	double time = 0, local = 0;
+
+public:
+	void record(const StepMotion& m)
+	{
+		if (!(m.dt > 0) || !std::isfinite(m.speed) || !std::isfinite(m.velocityError)) return;
+		positionError += m.dt * m.velocityError;
+		path += m.dt * m.speed;
+		energyError += m.dt * 2 * m.speed * m.velocityError;
+		energy += m.dt * m.speed * m.speed;
+		time += m.dt;
+		// per step, relative to the run's mean so far, or to now if higher, so that a bed coming to
+		// rest is not held to its own vanishing motion
+		const double speedScale = std::max(path / time, m.speed), energyScale = std::max(energy / time, m.speed * m.speed);
+		local = std::max(speedScale > 0 ? m.velocityError / speedScale : 0, energyScale > 0 ? 2 * m.speed * m.velocityError / energyScale : 0);
+	}
+	double stepError() const { return local; }
+	bool   started() const { return time > 0; }
+	double runError() const
+	{
+		return std::max(path > 0 ? positionError / path : 0, energy > 0 ? energyError / energy : 0);
+	}
+	void reset() { *this = AccuracyEstimate(); }
+	// The state a saved scene resumes from.
+	static constexpr int stateSize = 6;
+	void save(double out[stateSize]) const
+	{
+		out[0] = positionError, out[1] = path, out[2] = energyError, out[3] = energy, out[4] = time, out[5] = local;
+	}
+	void restore(const double in[stateSize])
+	{
+		positionError = in[0], path = in[1], energyError = in[2], energy = in[3], time = in[4], local = in[5];
+	}
+
+	// A4: the step at which the last one's error would meet `tolerance`.  The error per unit step
+	// grows like Δt² on contact springs and like Δt on bridges' drift: the square root (the cautious
+	// one of the two when growing), with a margin; shrinking at most 5× at once (one rough step does
+	// not collapse the run); infinite while nothing changes.
+	double allowedStep(double lastDt, double tolerance) const
+	{
+		if (!(local > 0)) return std::numeric_limits<double>::infinity();
+		return lastDt * std::max(0.2, controllerMargin * std::sqrt(calibration * tolerance / local));
+	}
+	static constexpr double controllerMargin = 0.9;
+	// A4a: the estimate aims at this fraction of the tolerance: calibrated on bench/accuracy_target.py,
+	// where the run's true error was 0.3–2.5× its estimate (docs/performance.md §1b)
+	static constexpr double calibration = 0.4;
+	// A4: before any step is known, the run starts at `tolerance` × the stability limit (an error
+	// committed cannot be undone: no step is taken twice), and the controller lets it grow by up to
+	// `growth` per step while the estimate allows.
+	static double firstStep(double limit, double tolerance) { return tolerance * limit; }
+	static constexpr double growth = 2;
+};
+
+// A5: the scheme whose cost over a stretch of time is lower: explicit steps cost 1 each and are
+// limited by `explicitLimit`, implicit ones cost `implicitCost` and are limited by `implicitLimit`;
+// both by the accuracy step.  The running scheme keeps its place unless the other is cheaper by
+// the factor `hysteresis` (a scene near the break-even point does not switch every step).
+inline bool implicitIsCheaper(bool runningImplicit, double accuracyStep, double explicitLimit, double implicitLimit, double implicitCost,
+                              double hysteresis = 1.5)
+{
+	const double explicitRate = 1 / std::min(accuracyStep, explicitLimit);                 // steps per second
+	const double implicitRate = implicitCost / std::min(accuracyStep, implicitLimit); // explicit steps' worth per second
+	return runningImplicit ? implicitRate < hysteresis * explicitRate : hysteresis * implicitRate < explicitRate;
+}
+
+} // namespace viscbridge

@@ -1,0 +1,113 @@
+// ViscBridgeTimeStepper's accuracy: the error estimate of every step, the step a tolerance allows,
+// and the scheme chosen per phase (physics.md §7a, A1–A5).
+#include "viscbridge/engines/ViscBridgeTimeStepper.hpp"
+#include "viscbridge/core/util/Validation.hpp"
+#include "viscbridge/distributed/Distributed.hpp"
+#include "viscbridge/scene/SceneValidation.hpp"
+#include "viscbridge/yade/Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
+#include "viscbridge/yade/ViscBridgeContext.hpp"
+#include "viscbridge/yade/StepErrorSource.hpp"
+#include <limits>
+
+namespace yade {
+
+namespace vb = viscbridge;
+
+// The step Newton just took and its error (A1): it moved each body with the forces of its start,
+// F_{n−1}, held over the step; the forces now, F_n, show how they changed on the way.  A force that
+// changes linearly gives the body ½Δt|F_n − F_{n−1}|/m more or less velocity than the step did (the
+// trapezoidal companion of the step), and moves it by Δt times that.  Bodies the implicit solver holds by bridges take its
+// filtered estimate instead (A1a, one step later).  Bodies that appear or vanish are not counted.
+vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
+{
+	const auto            own   = distributed::ownership(sc);
+	const size_t          n     = sc->bodies->size();
+	const bool            valid = previousForce.size() == n && forceIter == sc->iter - 1;
+	const auto*           solver   = ViscBridgeContext::findEngine<StepErrorSource>(sc);
+	const bool            filtered = solver && solver->stepErrorStep() == sc->iter - 1 && solver->stepErrorCovers().size() == n;
+	const Real            dt    = sc->dt;
+	Real                  mass = 0, speedSq = 0, errorSq = 0;
+	static const Vector3r none = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
+	previousForce.resize(n, none);
+	sc->forces.sync();
+	for (size_t id = 0; id < n; ++id) {
+		const shared_ptr<Body>& b = (*sc->bodies)[id];
+		if (!b || !b->isDynamic() || b->isClumpMember() || !own.body(*b) || distributed::isSubdomainBody(*b) || !(b->state->mass > 0)) {
+			previousForce[id] = none;
+			continue;
+		}
+		const Vector3r& f = sc->forces.getForce(static_cast<Body::id_t>(id));
+		const Real      m = b->state->mass;
+		speedSq += m * b->state->vel.squaredNorm();
+		if (filtered && solver->stepErrorCovers()[id]) {
+			mass += m;
+		} else if (valid && previousForce[id].allFinite()) {
+			const Real dv = 0.5 * dt * (f - previousForce[id]).norm() / m;
+			mass += m;
+			errorSq += m * dv * dv;
+		} else
+			speedSq -= m * b->state->vel.squaredNorm(); // not counted
+		previousForce[id] = f;
+	}
+	if (filtered) errorSq += solver->stepErrorSquared();
+	forceIter = sc->iter;
+	distributed::sum(sc, { &mass, &speedSq, &errorSq }); // [MPI] the same motion on every rank
+	if (!(mass > 0)) return {};
+	return { dt, std::sqrt(std::max<Real>(0, speedSq) / mass), std::sqrt(errorSq / mass) };
+}
+
+Real ViscBridgeTimeStepper::accuracyStep(Scene* sc)
+{
+	accuracyEstimate.record(lastStepMotion(sc));
+	errorEstimate = accuracyEstimate.runError();
+	stepError     = accuracyEstimate.stepError();
+	dtAccuracy    = accuracy > 0 ? accuracyEstimate.allowedStep(sc->dt, accuracy) : std::numeric_limits<Real>::infinity();
+	return dtAccuracy; // before the first step is known: firstStep() of the limit, in computeTimeStep
+}
+
+// The limit of the scheme that is not running, from P14 (rigorous: at most its spectral limit, so
+// a switch is made on the safe side), without the safety factor.
+Real ViscBridgeTimeStepper::otherSchemeLimit(Scene* sc, bool runningImplicit)
+{
+	otherBound.evaluate(sc, !runningImplicit, rayleighFraction);
+	return std::min(otherBound.combined, otherBound.rayleigh);
+}
+
+Law2_ScGeom_ViscBridgePhys_HertzViscous& ViscBridgeTimeStepper::lawToSwitch(Scene* sc)
+{
+	// the scene owns its functors mutably; the finder hands them out const for the validation
+	auto* law = const_cast<Law2_ScGeom_ViscBridgePhys_HertzViscous*>(findViscBridgeFunctors(sc).law);
+	if (!law || !ViscBridgeContext::hasEngine(sc, "ViscBridgeImplicitSolver"))
+		throw std::invalid_argument("ViscBridgeTimeStepper.autoIntegration=True needs Law2_ScGeom_ViscBridgePhys_HertzViscous in an "
+		                            "InteractionLoop and ViscBridgeImplicitSolver in O.engines (viscbridge.engines(integration='auto') "
+		                            "adds both); set autoIntegration=False or add them.");
+	if (distributed::active(sc))
+		throw std::invalid_argument("ViscBridgeTimeStepper.autoIntegration=True is not available under yade.mpy; allowed there: False "
+		                            "(choose Law2_ScGeom_ViscBridgePhys_HertzViscous.integration yourself).");
+	return *law;
+}
+
+// A5, decided after this step's dt is set (the law has already run this step with the scheme in
+// use; the other one takes over from the next step, whose full update computes its limit).
+void ViscBridgeTimeStepper::chooseScheme(Scene* sc, Real accuracyStepNow)
+{
+	const bool implicit = viscousImplicit();
+	scheme              = implicit ? "implicit" : "explicit";
+	if (!autoIntegration || !std::isfinite(dtBound)) return;
+	Law2_ScGeom_ViscBridgePhys_HertzViscous& law = lawToSwitch(sc);
+	// decide on fresh limits only, and keep a scheme for minSchemeSteps (a transient of the error
+	// estimate does not send the run back and forth)
+	if ((lastSwitchIter >= 0 && sc->iter - lastSwitchIter < minSchemeSteps) || lastUpdateIter != sc->iter) return;
+	const Real other         = safety * otherSchemeLimit(sc, implicit);
+	const Real explicitLimit = implicit ? other : dtBound, implicitLimit = implicit ? dtBound : other;
+	if (vb::implicitIsCheaper(implicit, accuracyStepNow, explicitLimit, implicitLimit, implicitCost) == implicit) return;
+	law.integration = implicit ? "explicit" : "implicit";
+	law.postLoad(law);
+	lastSwitchIter = sc->iter;
+	lastUpdateIter = -1; // the other operator: a full update at the next step
+	forceIter      = -1; // the forces the stepper sees gain or lose the viscous ones: no error from that change
+	modeById.clear();
+	++schemeSwitches;
+}
+
+} // namespace yade

@@ -1,0 +1,110 @@
+"""Accuracy as the input (physics.md §7a): a tolerance instead of a time step.  The run meets a
+closed form at each tolerance, the controller grows Δt on a bed at rest and shrinks it at an impact,
+integration='auto' switches schemes mid-run without breaking the energy balance, and bad tolerances
+are refused with the parameter named."""
+import math
+
+import pytest
+from scipy.integrate import quad
+from yade import O, utils
+import yade.wrapper as yw
+
+import viscbridge
+from viscbridge.scenes import settling
+from wetpairs import R, material, wet_box
+
+pytestmark = pytest.mark.slow  # runs of a few thousand steps
+
+
+def stepper():
+    return next(e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper))
+
+
+def approach(accuracy, mu=4e-3, w0=0.1):
+    """R1: a head-on Adams–Perchard approach from S0 = 0.1 r to S_min = 1e-4 r (the pair loses 45 %
+    of its speed); returns the gap error when the closed form reaches S_min, relative to the distance
+    travelled, and the steps taken."""
+    S0, s_min = 0.1 * R, 1e-4 * R
+    mat = material()
+    O.bodies.append([utils.sphere((0, 0, 0), R, material=mat), utils.sphere((2 * R + S0, 0, 0), R, material=mat)])
+    O.bodies[0].state.vel, O.bodies[1].state.vel = (0.5 * w0, 0, 0), (-0.5 * w0, 0, 0)
+    O.engines = viscbridge.engines(gravity=(0, 0, 0), guard=False, minRadius=R, accuracy=accuracy, viscosity=mu, sMin=s_min,
+                                   normalModel='adamsPerchard', tangentialModel='none', formationDistance=1.5 * S0)
+    O.dt = 0
+    A = 1.8 * mu  # physics.md R1: w(S) = w0 − A ln(S0/S)
+    arrival = quad(lambda S: 1 / (w0 - A * math.log(S0 / S)), s_min, S0)[0]
+    gap = lambda: (O.bodies[1].state.pos - O.bodies[0].state.pos).norm() - 2 * R  # noqa: E731
+    before = (0.0, S0)
+    while O.time < arrival:
+        before = (O.time, gap())
+        O.step()
+    at = before[1] + (arrival - before[0]) / (O.time - before[0]) * (gap() - before[1])
+    return abs(at - s_min) / (S0 - s_min), O.iter
+
+
+def test_a_pair_approach_meets_each_tolerance():
+    results = {}
+    for tol in (1e-1, 1e-2, 1e-3):
+        O.reset()
+        results[tol] = approach(tol)
+        assert results[tol][0] <= tol, (tol, results[tol])
+        assert stepper().errorEstimate > 0
+    # the tolerance is what sets the steps: a tighter one takes more
+    assert results[1e-1][1] < results[1e-2][1] < results[1e-3][1], results
+
+
+def test_the_controller_grows_dt_at_rest_and_shrinks_it_at_an_impact():
+    scene = settling(n=30, viscosity=10.0, accuracy=1e-2, guard=False, trackEnergy=False)
+    scene.run(duration=0.06)
+    ts = stepper()
+    # at rest: the step is the stability limit of the scheme (the collision limit, implicit)
+    assert ts.scheme == 'implicit'
+    assert ts.governing != 'accuracy' and O.dt == pytest.approx(ts.dtBound, rel=1e-9), (ts.governing, O.dt, ts.dtBound)
+    rest = O.dt
+    top = max((b for b in O.bodies if isinstance(b.shape, yw.Sphere)), key=lambda b: b.state.pos[2])
+    top.state.vel = (0, 0, -0.3)  # an impact on the bed
+    shortest = rest
+    for _ in range(60):
+        O.step()
+        shortest = min(shortest, O.dt)
+    assert shortest < 0.5 * rest, (shortest, rest)
+
+
+def test_switching_schemes_mid_run_keeps_the_energy_balance():
+    """A dry cloud runs explicit; as it lands, bridges form and the stepper switches to implicit."""
+    wet_box(n=40, mu=10.0, accuracy=1e-2)
+    ts = stepper()
+    switch = None
+    while O.time < 0.03:
+        O.run(100, True)
+        if switch is None and ts.schemeSwitches:
+            switch = (O.iter, sum(1 for i in O.interactions if i.phys.bridge))
+    # not at the start: once the landing spheres had formed bridges
+    assert switch is not None and switch[0] > 100 and switch[1] > 0, switch
+    assert ts.scheme == 'implicit'
+    E = dict(O.energy.items())
+    assert sum(1 for i in O.interactions if i.phys.bridge) > 20
+    assert abs(O.energy.total()) <= 0.01 * abs(E['gravWork']), E
+
+
+@pytest.mark.parametrize('bad', [0, -1e-2, 1, 2.0, float('nan'), float('inf'), 'tight'])
+def test_bad_tolerances_are_refused_with_the_parameter_named(bad):
+    with pytest.raises(ValueError, match='accuracy'):
+        viscbridge.engines(viscosity=1.0, accuracy=bad)
+    with pytest.raises(ValueError, match='accuracy'):
+        settling(n=5, accuracy=bad)
+
+
+@pytest.mark.parametrize('bad', [-0.5, 1.0, 3.0, float('nan')])
+def test_the_stepper_refuses_a_bad_tolerance_and_keeps_its_own(bad):
+    ts = yw.ViscBridgeTimeStepper(accuracy=1e-2)
+    with pytest.raises(ValueError, match='accuracy'):
+        ts.accuracy = bad
+    assert ts.accuracy == 1e-2
+
+
+def test_a_tolerance_needs_the_time_stepper():
+    with pytest.raises(ValueError, match='accuracy'):
+        viscbridge.engines(viscosity=1.0, accuracy=1e-2, timeStepper=False)
+    with pytest.raises(ValueError, match="integration='auto'"):
+        viscbridge.engines(viscosity=1.0, integration='auto', timeStepper=False)
