@@ -22,48 +22,28 @@
 # per-engine timers, so the 40 ms polling of O.run(n, True) is not counted).
 import math
 import os
-import random
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[0])))  # yade -x: __file__ is yade's own
+import accuracy_case as ac  # noqa: E402
 import common  # noqa: E402
-from yade import O, utils  # noqa: E402
+from yade import O  # noqa: E402
 import yade.wrapper as yw  # noqa: E402
 
-import viscbridge  # noqa: E402
-import viscbridge.scan as scan  # noqa: E402
-from viscbridge.scenes import instability  # noqa: E402
-
-R = 0.5e-3
-T = 1e-4
-SAMPLES = 10
+CASE = ac.Bed45()
+T, SAMPLES = CASE.T, ac.SAMPLES
 TAU = T / SAMPLES
-PERTURBATION = 0.01
-LIQUID = dict(sMinRel=1e-3, normalModel='adamsPerchard', tangentialModel='slip')
 EXPLICIT_FACTORS = [0.5, 1, 2, 4, 8, 16]           # × the stepper's limit (safety 1)
 IMPLICIT_STEPS_PER_SAMPLE = [2, 4, 16, 64, 256, 1024, 4096]  # Δt = T/10/k; k = 2 is 5e-6 s
 TIGHT = 1e-12  # CG tolerance of the twin of each implicit run: what the default tolerance adds
 
 viscosities = [float(a) for a in sys.argv[1:]] or [1.0, 10.0, 100.0, 1000.0]
-bed = scan.settled_bed(os.path.join(common.CACHE, 'narrow-bed-45.yade.gz'), n=45, radius=R, width=6 * R, seed=5)
-
-
-def prepare(mu, integration, stepper=False):
-    O.load(bed)
-    O.interactions.clear()
-    O.engines = viscbridge.engines(viscosity=mu, integration=integration, timeStepper=stepper, safety=1.0 if stepper else None,
-                                   guard=False, minRadius=R, **LIQUID)
-    rng = random.Random(6)
-    for b in O.bodies:
-        if b.dynamic:
-            b.state.vel = tuple(rng.uniform(-PERTURBATION, PERTURBATION) for _ in range(3))
-    O.trackEnergy = False
 
 
 def stepper_limits(mu):
     """(combined, collision) limit of ViscBridgeTimeStepper at safety 1 on the wetted bed [s]: the
     spectral limit of the network (physics.md P18), 2.6× its rigorous floor P14 here."""
-    prepare(mu, 'explicit', stepper=True)
+    CASE.prepare(mu, 'explicit', stepper=True, safety=1.0)
     O.dt = 1e-12
     O.run(2, True)
     ts = next(e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper))
@@ -71,44 +51,10 @@ def stepper_limits(mu):
 
 
 def run(mu, integration, k, tolerance=None):
-    """Run T at Δt = TAU/k (the implicit solver at `tolerance`, else at its default); the samples,
-    the end positions, cost, and why it failed (or None)."""
-    prepare(mu, integration)
-    O.dt = TAU / k
-    if tolerance is not None:
-        next(e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver)).tolerance = tolerance
-    dyn = [b.id for b in O.bodies if b.dynamic]
-    x0 = {i: O.bodies[i].state.pos for i in dyn}
-    z0 = {i: O.bodies[i].state.pos[2] for i in dyn}
-    ke0, iter0 = utils.kineticEnergy(), O.iter
-    O.timingEnabled = True
-    for e in O.engines:
-        e.execTime, e.execCount = 0, 0
-    kinetic, why = [], None
-    for _ in range(SAMPLES):
-        O.run(k, True)
-        ke = utils.kineticEnergy()
-        released = sum(O.bodies[i].state.mass * 9.81 * (z0[i] - O.bodies[i].state.pos[2]) for i in dyn)
-        why = instability(ke, released, ke0)
-        if why:
-            break
-        kinetic.append(ke)
-    seconds = sum(e.execTime for e in O.engines) * 1e-9
-    O.timingEnabled = False
-    pos = {i: O.bodies[i].state.pos for i in dyn}
-    solver = next((e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver)), None)
-    cg = solver.totalIterations / max(solver.solves, 1) if solver else None
-    return dict(kinetic=kinetic, x0=x0, pos=pos, seconds=seconds, steps=O.iter - iter0, why=why, cg=cg)
+    return ac.run_fixed(CASE, mu, integration, k, tolerance)
 
 
-def errors(r, ref):
-    if r['why']:
-        return math.inf, math.inf
-    ids = list(ref['pos'])
-    rms = lambda vs: math.sqrt(sum(v.squaredNorm() for v in vs) / len(vs))  # noqa: E731
-    e_x = rms([r['pos'][i] - ref['pos'][i] for i in ids]) / rms([ref['pos'][i] - ref['x0'][i] for i in ids])
-    e_k = sum(abs(a - b) for a, b in zip(r['kinetic'], ref['kinetic'])) / sum(ref['kinetic'])
-    return e_x, e_k
+errors = ac.errors
 
 
 def steps_for(dt):

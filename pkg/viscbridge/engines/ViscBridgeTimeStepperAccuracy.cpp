@@ -29,6 +29,13 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 	Real                  mass = 0, speedSq = 0, errorSq = 0;
 	static const Vector3r none = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
 	previousForce.resize(n, none);
+	// a bridge that formed this step adds its force at once: a jump of the model, not a change the
+	// step integrated, so its bodies' force change is not an error (their next step's is)
+	std::vector<Body::id_t> jumped;
+	for (const BridgeEvent& e : ViscBridgeContext::of(sc).events(sc->iter))
+		if (e.kind == BridgeEvent::Kind::formed) jumped.push_back(e.id1), jumped.push_back(e.id2);
+	for (Body::id_t id : jumped)
+		if (static_cast<size_t>(id) < n) previousForce[id] = none;
 	sc->forces.sync();
 	for (size_t id = 0; id < n; ++id) {
 		const shared_ptr<Body>& b = (*sc->bodies)[id];
