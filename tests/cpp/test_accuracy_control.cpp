@@ -1,0 +1,61 @@
+// The accuracy kernel (physics.md §7a): the run's error from its steps (A2, A3), the step a
+// tolerance allows (A4) and the cheaper scheme (A5).
+#include "viscbridge/core/timestep/AccuracyControl.hpp"
+#include <gtest/gtest.h>
+#include <cmath>
+
+using viscbridge::AccuracyEstimate;
+using viscbridge::implicitIsCheaper;
+using viscbridge::StepMotion;
+
+TEST(AccuracyControl, RunErrorIsTheRelativeErrorOfItsSteps)
+{
+	// every step off by 1 % of its velocity: positions off by 1 % of the distance travelled, and the
+	// kinetic energy by 2 %
+	AccuracyEstimate e;
+	for (int n = 0; n < 100; ++n) e.record(StepMotion { 1e-6 * (1 + n % 3), 0.1 + 0.001 * n, 0.001 + 1e-5 * n });
+	EXPECT_NEAR(e.runError(), 0.02, 1e-12);
+	EXPECT_NEAR(e.stepError(), 0.02, 1e-12);
+}
+
+TEST(AccuracyControl, ABedComingToRestIsMeasuredAgainstTheMotionItHad)
+{
+	// the speed falls a thousandfold while each step's error stays a tenth of the speed: the step
+	// error, relative to the run's mean speed, falls with it, and the controller lets dt grow
+	AccuracyEstimate e;
+	double speed = 0.1;
+	for (int n = 0; n < 200; ++n, speed *= 0.966) e.record(StepMotion { 1e-6, speed, 0.1 * speed });
+	EXPECT_LT(speed, 1.2e-4);
+	EXPECT_LT(e.stepError(), 1e-2);
+	EXPECT_GT(e.allowedStep(1e-6, 1e-1), 1e-6);
+}
+
+TEST(AccuracyControl, TheAllowedStepMeetsTheCalibratedTolerance)
+{
+	AccuracyEstimate e;
+	const double tol = 1e-2, target = AccuracyEstimate::calibration * tol;
+	e.record(StepMotion { 1e-6, 1.0, 0.25 * target }); // half the target (the energy measure doubles it): √2 × 0.9
+	EXPECT_NEAR(e.allowedStep(1e-6, tol), 1e-6 * AccuracyEstimate::controllerMargin * std::sqrt(2.0), 1e-15);
+	AccuracyEstimate rough;
+	rough.record(StepMotion { 1e-6, 1.0, 1.0 }); // a step 100× off: shrink, but by at most 5× at once
+	EXPECT_DOUBLE_EQ(rough.allowedStep(1e-6, tol), 0.2e-6);
+	AccuracyEstimate still; // nothing changed: no accuracy limit
+	still.record(StepMotion { 1e-6, 0.0, 0.0 });
+	EXPECT_TRUE(std::isinf(still.allowedStep(1e-6, tol)));
+	EXPECT_FALSE(AccuracyEstimate().started());
+}
+
+TEST(AccuracyControl, TheViscousLimitMakesTheImplicitSchemeCheaper)
+{
+	const double inf = std::numeric_limits<double>::infinity();
+	// 100 Pa·s: the explicit limit 10⁴× below the collision limit
+	EXPECT_TRUE(implicitIsCheaper(false, inf, 1e-9, 1e-5, 3));
+	// dry: both limits are the collision limit, an implicit step costs 3 explicit ones
+	EXPECT_FALSE(implicitIsCheaper(false, inf, 1e-5, 1e-5, 3));
+	// the tolerance allows less than the explicit limit: explicit
+	EXPECT_FALSE(implicitIsCheaper(false, 1e-9, 2e-9, 1e-5, 3));
+	// near the break-even point the running scheme stays (hysteresis 1.5)
+	EXPECT_TRUE(implicitIsCheaper(true, inf, 1e-5 / 2.5, 1e-5, 3));
+	EXPECT_FALSE(implicitIsCheaper(false, inf, 1e-5 / 4, 1e-5, 3));
+	EXPECT_TRUE(implicitIsCheaper(false, inf, 1e-5 / 5, 1e-5, 3));
+}
