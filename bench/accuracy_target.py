@@ -22,6 +22,7 @@ parser = argparse.ArgumentParser()
 parser.add_argument('--cases', default='bed45,settling300')
 parser.add_argument('--mu', default='1,10,100,1000')
 parser.add_argument('--tol', default='1e-1,1e-2,1e-3')
+parser.add_argument('--replot', action='store_true', help='only redraw the figure from docs/perf/accuracy_target_summary.csv')
 args = parser.parse_args(sys.argv[1:])
 CASES = [ac.CASES[c]() for c in args.cases.split(',')]
 VISCOSITIES = [float(m) for m in args.mu.split(',')]
@@ -81,7 +82,7 @@ def oracle_rows(case, mu, ref, tightest):
 
 
 rows, summary = [], []
-for case in CASES:
+for case in ([] if args.replot else CASES):
     for mu in VISCOSITIES:
         ref, ref_error, ref_scheme, ref_dt = reference(case, mu)
         print('\n%s, μ = %g Pa·s: reference %s at dt %.3e s (%d steps; its own error ~%.1e)' % (
@@ -99,8 +100,13 @@ for case in CASES:
                                 oracle_steps=best and best['steps'],
                                 cost_ratio=best and mine['seconds'] / best['seconds'], error_ratio=mine['error'] / tol))
 
-common.write_rows(os.path.join(common.RESULTS, 'accuracy_target.csv'), rows)
-common.write_rows(os.path.join(common.RESULTS, 'accuracy_target_summary.csv'), summary)
+if args.replot:
+    import csv
+    with open(os.path.join(common.RESULTS, 'accuracy_target_summary.csv')) as fh:
+        summary = [{k: (v if k in ('case', 'oracle') or not v else float(v)) for k, v in r.items()} for r in csv.DictReader(fh)]
+else:
+    common.write_rows(os.path.join(common.RESULTS, 'accuracy_target.csv'), rows)
+    common.write_rows(os.path.join(common.RESULTS, 'accuracy_target_summary.csv'), summary)
 print('\n%-11s %6s %6s | %9s %9s %8s %7s | %-26s %9s %8s | %6s' % (
     'case', 'μ', 'tol', 'error', 'estimate', 'wall [s]', 'steps', 'oracle', 'error', 'wall [s]', 'cost×'))
 for s in summary:
@@ -110,33 +116,41 @@ for s in summary:
         '%.2f' % s['cost_ratio'] if s['oracle'] else '-'))
 
 # --- figure: achieved error and cost ratio against the tolerance, one line per case and viscosity
-import matplotlib  # noqa: E402
-matplotlib.use('Agg')
-import matplotlib.pyplot as plt  # noqa: E402
+def plot(summary, png):
+    import matplotlib
+    matplotlib.use('Agg')
+    import matplotlib.pyplot as plt
+    cases = list(dict.fromkeys(s['case'] for s in summary))
+    viscosities = list(dict.fromkeys(s['viscosity'] for s in summary))
+    tolerances = sorted({s['tolerance'] for s in summary})
+    fig, (ax_e, ax_c) = plt.subplots(1, 2, figsize=(10, 4.4))
+    for n, case in enumerate(cases):
+        for m, mu in enumerate(viscosities):
+            mine = [s for s in summary if s['case'] == case and s['viscosity'] == mu]
+            style = dict(color='C%d' % m, marker='os'[n % 2], ls='-' if n == 0 else '--', label='%s, μ = %g Pa·s' % (case, mu))
+            ax_e.loglog([s['tolerance'] for s in mine], [s['error'] for s in mine], **style)
+            pts = [(s['tolerance'], s['cost_ratio']) for s in mine if s['cost_ratio']]
+            if pts:
+                ax_c.loglog(*zip(*pts), **style)
+    lims = [min(tolerances) / 3, max(tolerances) * 3]
+    ax_e.loglog(lims, lims, color='grey', ls=':', lw=1, label='error = tolerance')
+    ax_e.set_xlabel('tolerance (accuracy=...)')
+    ax_e.set_ylabel('achieved error against the reference')
+    ax_e.set_title('error', fontsize=9)
+    ax_e.legend(fontsize=6)
+    ax_c.axhline(2, color='grey', ls=':', lw=1, label='goal: 2× the oracle')
+    ax_c.axhline(1, color='grey', lw=0.5)
+    ax_c.set_xlabel('tolerance (accuracy=...)')
+    ax_c.set_ylabel('wall time / the oracle\'s')
+    ax_c.set_title('cost against the cheapest fixed setting that meets the tolerance', fontsize=9)
+    ax_c.legend(fontsize=6)
+    for a in (ax_e, ax_c):
+        a.grid(True, which='both', alpha=0.3)
+    fig.suptitle('Accuracy as the input (viscbridge.engines(accuracy=...)): achieved error and cost')
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
 
-fig, (ax_e, ax_c) = plt.subplots(1, 2, figsize=(10, 4.2))
-for n, case in enumerate(CASES):
-    for m, mu in enumerate(VISCOSITIES):
-        mine = [s for s in summary if s['case'] == case.name and s['viscosity'] == mu]
-        style = dict(color='C%d' % m, marker='os'[n % 2], ls='-' if n == 0 else '--', label='%s, μ = %g Pa·s' % (case.name, mu))
-        ax_e.loglog([s['tolerance'] for s in mine], [s['error'] for s in mine], **style)
-        pts = [(s['tolerance'], s['cost_ratio']) for s in mine if s['cost_ratio']]
-        if pts:
-            ax_c.semilogx(*zip(*pts), **style)
-lims = [min(TOLERANCES) / 3, max(TOLERANCES) * 3]
-ax_e.loglog(lims, lims, color='grey', ls=':', lw=1, label='error = tolerance')
-ax_e.set_xlabel('tolerance (accuracy=...)')
-ax_e.set_ylabel('achieved error against the reference')
-ax_e.legend(fontsize=6)
-ax_c.axhline(2, color='grey', ls=':', lw=1, label='goal: 2× the oracle')
-ax_c.axhline(1, color='grey', lw=0.5)
-ax_c.set_xlabel('tolerance (accuracy=...)')
-ax_c.set_ylabel('wall time / the oracle\'s (cheapest fixed setting that meets it)')
-ax_c.legend(fontsize=6)
-for a in (ax_e, ax_c):
-    a.grid(True, which='both', alpha=0.3)
-fig.suptitle('Accuracy as the input: achieved error and cost')
-fig.tight_layout()
+
 png = os.path.join(common.RESULTS, 'accuracy_target.png')
-fig.savefig(png, dpi=110)
+plot(summary, png)
 print('\nwritten', os.path.join(common.RESULTS, 'accuracy_target.csv'), png)
