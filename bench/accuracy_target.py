@@ -104,9 +104,18 @@ if args.replot:
     import csv
     with open(os.path.join(common.RESULTS, 'accuracy_target_summary.csv')) as fh:
         summary = [{k: (v if k in ('case', 'oracle') or not v else float(v)) for k, v in r.items()} for r in csv.DictReader(fh)]
-else:
-    common.write_rows(os.path.join(common.RESULTS, 'accuracy_target.csv'), rows)
-    common.write_rows(os.path.join(common.RESULTS, 'accuracy_target_summary.csv'), summary)
+else:  # the rows of the cases not run this time are kept
+    import csv
+    ran = {c.name for c in CASES}
+    for name, mine in (('accuracy_target.csv', rows), ('accuracy_target_summary.csv', summary)):
+        path = os.path.join(common.RESULTS, name)
+        kept = []
+        if os.path.exists(path):
+            with open(path) as fh:
+                kept = [{k: (v if k in ('case', 'oracle', 'kind', 'setting', 'stopped') or not v else float(v)) for k, v in r.items()}
+                        for r in csv.DictReader(fh) if r['case'] not in ran]
+        mine[:0] = kept
+        common.write_rows(path, mine)
 print('\n%-11s %6s %6s | %9s %9s %8s %7s | %-26s %9s %8s | %6s' % (
     'case', 'μ', 'tol', 'error', 'estimate', 'wall [s]', 'steps', 'oracle', 'error', 'wall [s]', 'cost×'))
 for s in summary:

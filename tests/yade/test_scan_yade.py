@@ -49,3 +49,13 @@ def test_allowed_values_are_those_of_the_ip2():
     for field in ('viscosity', 'sMinRel', 'bridgeVolumeRel', 'contactAngle', 'en'):
         for v in (-1.0, 0.0, 1e-9, 0.5, 1.0, 1.5, math.pi / 2, math.pi / 2 + 1e-9, 2.0):
             assert ip2_accepts(**{field: v}) == (v in scan.CASE_FIELDS[field].allowed), (field, v)
+
+
+def test_a_case_with_a_tolerance_reports_the_accuracy_run(bed_dir):
+    """accuracy=1e-2: after the bisection, the trial's time runs with the tolerance; at 100 Pa·s the
+    stepper goes implicit and needs far fewer steps than the fixed-Δt trial at its stable step."""
+    r = scan.find_critical_dt(dict(TINY, viscosity=100.0, accuracy=1e-2), bed_dir)
+    assert r['accuracy_scheme'] == 'implicit' and r['accuracy_switches'] >= 1
+    assert r['accuracy_unstable'] == ''
+    assert 0 < r['accuracy_steps'] < TINY['steps'] / 4, r['accuracy_steps']
+    assert 0 < r['accuracy_error_estimate'] < 1 and r['accuracy_seconds'] > 0  # an estimate, reported

@@ -215,7 +215,9 @@ void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 		criticalBody = !criticalBodies.empty() ? criticalBodies.front() : bound.criticalBody;
 	}
 	agreeWithOtherRanks(sc); // [MPI] the smallest limit of all ranks, the same dt on all of them
-	const Real accuracyStepNow = accuracy > 0 && !accuracyEstimate.started() ? vb::AccuracyEstimate::firstStep(dtBound, accuracy) : accuracyLimit;
+	// before a step is known (or from dt = 0, which nothing can grow from): the first step of A4
+	const bool firstStep       = !accuracyEstimate.started() || !(sc->dt > 0);
+	const Real accuracyStepNow = accuracy > 0 && firstStep ? vb::AccuracyEstimate::firstStep(dtBound, accuracy) : accuracyLimit;
 	if (accuracyStepNow < dtBound) governing = "accuracy";
 	chooseScheme(sc, accuracyLimit);
 	Real dt = std::min(dtBound, accuracyStepNow);

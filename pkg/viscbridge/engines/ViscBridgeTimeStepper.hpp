@@ -44,6 +44,7 @@ class ViscBridgeTimeStepper : public TimeStepper {
 	Law2_ScGeom_ViscBridgePhys_HertzViscous& lawToSwitch(Scene*);
 	void                          chooseScheme(Scene*, Real accuracyStepNow);
 	static constexpr long         minSchemeSteps = 50;
+	bool                          decided        = false; // whether autoIntegration has chosen since this object was made or loaded
 
 	bool viscousImplicit() const;
 	void fullUpdate(Scene*);

@@ -104,7 +104,9 @@ void ViscBridgeTimeStepper::chooseScheme(Scene* sc, Real accuracyStepNow)
 	Law2_ScGeom_ViscBridgePhys_HertzViscous& law = lawToSwitch(sc);
 	// decide on fresh limits only, and keep a scheme for minSchemeSteps (a transient of the error
 	// estimate does not send the run back and forth)
-	if ((lastSwitchIter >= 0 && sc->iter - lastSwitchIter < minSchemeSteps) || lastUpdateIter != sc->iter) return;
+	// (the first decision at once: a scene loaded or autoIntegration just set)
+	if ((lastSwitchIter >= 0 && sc->iter - lastSwitchIter < minSchemeSteps) || (lastUpdateIter != sc->iter && decided)) return;
+	decided = true;
 	const Real other         = safety * otherSchemeLimit(sc, implicit);
 	const Real explicitLimit = implicit ? other : dtBound, implicitLimit = implicit ? dtBound : other;
 	if (vb::implicitIsCheaper(implicit, accuracyStepNow, explicitLimit, implicitLimit, implicitCost) == implicit) return;

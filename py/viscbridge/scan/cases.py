@@ -23,12 +23,13 @@ CASE_DEFAULTS = dict(
     viscosity=1.0, sMinRel=1e-3, bridgeVolumeRel=0.01, contactAngle=0.0,
     normalModel='adamsPerchard', tangentialModel='slip', en=1.0, integration='explicit',
     steps=2000, perturbation=0.01, tolerance=0.02, capillaryModel='none', surfaceTension=0.0, verdict='energy',
+    accuracy=0.0,
 )
 _LIQUID_KEYS = ('viscosity', 'sMinRel', 'bridgeVolumeRel', 'contactAngle', 'normalModel', 'tangentialModel', 'en',
                 'capillaryModel', 'surfaceTension')
 # Fields added after scans were run: left out of a case's key while at their default, so that
 # those scans still resume.
-_KEY_OMITS_AT_DEFAULT = ('capillaryModel', 'surfaceTension', 'verdict')
+_KEY_OMITS_AT_DEFAULT = ('capillaryModel', 'surfaceTension', 'verdict', 'accuracy')
 _BED_KEYS = ('n', 'radius', 'sizeRatio', 'density', 'young', 'poisson', 'friction', 'seed')
 
 
@@ -92,6 +93,9 @@ CASE_FIELDS = dict(
     verdict=Field('', "instability criterion: 'energy' (kinetic above released potential energy) or 'period2' "
                       "(that, or a ringing at the step's frequency: consecutive velocities anti-correlated, "
                       "which the energy criterion misses in the transition and collision regimes)", ('energy', 'period2')),
+    accuracy=Field('', "with a tolerance (0: none), the case also runs the trial's time (steps at the largest stable Δt) with "
+                       "ViscBridgeTimeStepper.accuracy at it and integration 'auto', and reports its steps, engine time, "
+                       "scheme switches and estimated error (accuracy_* columns)", Interval(0, 1, False, True)),
 )
 
 

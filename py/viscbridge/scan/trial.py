@@ -86,6 +86,34 @@ class _Trial:
                     coordination=2.0 * len(contacts) / max(dyn, 1))
 
 
+    def accuracy_run(self, duration):
+        """Run `duration` [s] of the trial with the tolerance case['accuracy'] (physics.md §7a): the
+        stepper chooses Δt and the scheme.  Its cost and estimated error, and whether it stayed stable."""
+        from yade import O
+        import yade.wrapper as yw
+        self.prepare()
+        engines = [e for e in O.engines if not isinstance(e, yw.ViscBridgeImplicitSolver)]
+        at = next(k for k, e in enumerate(engines) if isinstance(e, yw.NewtonIntegrator))
+        engines.insert(at, yw.ViscBridgeImplicitSolver())
+        O.engines = engines
+        ts = next(e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper))
+        ts.accuracy, ts.autoIntegration = self.case['accuracy'], True
+        ts.resetErrorEstimate()  # the account of this run, not of the bed's settling
+        O.dt, iter0 = 0, O.iter  # the stepper's first step starts from its bound (A4)
+        O.timingEnabled = True
+        for e in O.engines:
+            e.execTime = 0
+        O.stopAtTime = O.time + duration
+        O.run()
+        O.wait()
+        seconds = sum(e.execTime for e in O.engines) * 1e-9
+        O.timingEnabled = False
+        ke, released = self.measures()
+        return dict(accuracy_steps=O.iter - iter0, accuracy_seconds=seconds, accuracy_error_estimate=ts.errorEstimate,
+                    accuracy_switches=ts.schemeSwitches, accuracy_scheme=ts.scheme,
+                    accuracy_unstable=instability(ke, released, self.ke0) or '')
+
+
 def find_critical_dt(case, cache_dir):
     """Bisection of the critical Δt of one case (runs inside YADE).  Returns a result dict."""
     from .. import criteria
@@ -104,4 +132,6 @@ def find_critical_dt(case, cache_dir):
                   t_v=t_v, rayleigh_dt=rayleigh, trials=len(trials), wall_seconds=time.time() - started, **info)
     result['critical_over_tv'] = critical / t_v if math.isfinite(t_v) else None
     result['critical_over_stepper'] = critical / info['dt_stepper']
+    if case['accuracy'] > 0:  # the same simulated time as a trial at the largest stable Δt
+        result.update(trial.accuracy_run(case['steps'] * lo))
     return result
