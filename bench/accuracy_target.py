@@ -136,6 +136,8 @@ def plot(summary, png):
     for n, case in enumerate(cases):
         for m, mu in enumerate(viscosities):
             mine = [s for s in summary if s['case'] == case and s['viscosity'] == mu]
+            if not mine:
+                continue
             style = dict(color='C%d' % m, marker='os'[n % 2], ls='-' if n == 0 else '--', label='%s, μ = %g Pa·s' % (case, mu))
             ax_e.loglog([s['tolerance'] for s in mine], [s['error'] for s in mine], **style)
             pts = [(s['tolerance'], s['cost_ratio']) for s in mine if s['cost_ratio']]
@@ -162,4 +164,4 @@ def plot(summary, png):
 
 png = os.path.join(common.RESULTS, 'accuracy_target.png')
 plot(summary, png)
-print('\nwritten', os.path.join(common.RESULTS, 'accuracy_target.csv'), png)
+print('\nwritten', png if args.replot else '%s %s' % (os.path.join(common.RESULTS, 'accuracy_target.csv'), png))
