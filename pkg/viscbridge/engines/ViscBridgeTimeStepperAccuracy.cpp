@@ -16,8 +16,10 @@ namespace vb = viscbridge;
 // The step Newton just took and its error (A1): it moved each body with the forces of its start,
 // F_{n−1}, held over the step; the forces now, F_n, show how they changed on the way.  A force that
 // changes linearly gives the body ½Δt|F_n − F_{n−1}|/m more or less velocity than the step did (the
-// trapezoidal companion of the step), and moves it by Δt times that.  Bodies the implicit solver holds by bridges take its
-// filtered estimate instead (A1a, one step later).  Bodies that appear or vanish are not counted.
+// trapezoidal companion of the step), and moves it by Δt times that.  Bodies the implicit solver
+// holds by bridges take its filtered estimate of the same step instead (A1a).  Bodies that appear
+// or vanish are not counted; a clump's force is summed by NewtonIntegrator after this engine, so a
+// clump counts with its speed but without an error (not yet estimated).
 vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 {
 	const auto            own   = distributed::ownership(sc);
