@@ -119,11 +119,8 @@ void ViscBridgeImplicitSolver::filterStepError(const vb::ImplicitViscousSystem& 
 	const size_t          n     = scene->bodies->size();
 	static const Vector3r none  = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
 	const bool            valid = previousChange.size() == n && previousChangeIter == scene->iter - 1 && !distributed::active(scene);
-	std::vector<vb::SystemBody>   bodies  = sys.bodies();
-	std::vector<vb::SystemBridge> bridges = sys.bridges();
-	for (auto& c : bridges)
-		c.shiftVel.setZero();
-	std::vector<Vector3r> change(n, none);
+	std::vector<vb::SystemBody> bodies = sys.bodies();
+	std::vector<Vector3r>       change(n, none);
 	for (size_t i = 0; i < ids.size(); ++i) {
 		vb::SystemBody& b   = bodies[i];
 		change[ids[i]]      = x.segment<3>(6 * static_cast<long>(i)) - b.vel;
@@ -139,6 +136,9 @@ void ViscBridgeImplicitSolver::filterStepError(const vb::ImplicitViscousSystem& 
 	stepErrorSq   = 0;
 	stepErrorIter = -1;
 	if (!valid) return;
+	std::vector<vb::SystemBridge> bridges = sys.bridges(); // the filter has no periodic shift
+	for (auto& c : bridges)
+		c.shiftVel.setZero();
 	Eigen::VectorXd dv = Eigen::VectorXd::Zero(static_cast<long>(sys.size()));
 	for (int pass = 0; pass < 2; ++pass) {
 		const vb::ImplicitViscousSystem filter(bodies, bridges, scene->dt);

@@ -33,11 +33,10 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 	previousForce.resize(n, none);
 	// a bridge that formed this step adds its force at once: a jump of the model, not a change the
 	// step integrated, so its bodies' force change is not an error (their next step's is)
-	std::vector<Body::id_t> jumped;
 	for (const BridgeEvent& e : ViscBridgeContext::of(sc).events(sc->iter))
-		if (e.kind == BridgeEvent::Kind::formed) jumped.push_back(e.id1), jumped.push_back(e.id2);
-	for (Body::id_t id : jumped)
-		if (static_cast<size_t>(id) < n) previousForce[id] = none;
+		if (e.kind == BridgeEvent::Kind::formed)
+			for (Body::id_t id : { e.id1, e.id2 })
+				if (static_cast<size_t>(id) < n) previousForce[id] = none;
 	sc->forces.sync();
 	for (size_t id = 0; id < n; ++id) {
 		const shared_ptr<Body>& b = (*sc->bodies)[id];
@@ -45,24 +44,23 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 			previousForce[id] = none;
 			continue;
 		}
-		const Vector3r& f = sc->forces.getForce(static_cast<Body::id_t>(id));
-		const Real      m = b->state->mass;
-		speedSq += m * b->state->vel.squaredNorm();
-		if (filtered && solver->stepErrorCovers()[id]) {
+		const Vector3r& f       = sc->forces.getForce(static_cast<Body::id_t>(id));
+		const Real      m       = b->state->mass;
+		const bool      covered = filtered && solver->stepErrorCovers()[id]; // its error is in the solver's sum
+		const bool      raw     = !covered && valid && previousForce[id].allFinite();
+		if (covered || raw) {
+			const Real dv = raw ? 0.5 * dt * (f - previousForce[id]).norm() / m : 0;
 			mass += m;
-		} else if (valid && previousForce[id].allFinite()) {
-			const Real dv = 0.5 * dt * (f - previousForce[id]).norm() / m;
-			mass += m;
+			speedSq += m * b->state->vel.squaredNorm();
 			errorSq += m * dv * dv;
-		} else
-			speedSq -= m * b->state->vel.squaredNorm(); // not counted
+		}
 		previousForce[id] = f;
 	}
 	if (filtered) errorSq += solver->stepErrorSquared();
 	forceIter = sc->iter;
 	distributed::sum(sc, { &mass, &speedSq, &errorSq }); // [MPI] the same motion on every rank
 	if (!(mass > 0)) return {};
-	return { dt, std::sqrt(std::max<Real>(0, speedSq) / mass), std::sqrt(errorSq / mass) };
+	return { dt, std::sqrt(speedSq / mass), std::sqrt(errorSq / mass) };
 }
 
 Real ViscBridgeTimeStepper::accuracyStep(Scene* sc)
@@ -103,12 +101,12 @@ void ViscBridgeTimeStepper::chooseScheme(Scene* sc, Real accuracyStepNow)
 	const bool implicit = viscousImplicit();
 	scheme              = implicit ? "implicit" : "explicit";
 	if (!autoIntegration || !std::isfinite(dtBound)) return;
-	Law2_ScGeom_ViscBridgePhys_HertzViscous& law = lawToSwitch(sc);
-	// decide on fresh limits only, and keep a scheme for minSchemeSteps (a transient of the error
-	// estimate does not send the run back and forth)
-	// (the first decision at once: a scene loaded or autoIntegration just set)
+	// decide on fresh limits only (the first time at once: a scene loaded or autoIntegration just
+	// set), and keep a scheme for minSchemeSteps (a transient of the error estimate does not send
+	// the run back and forth)
 	if ((lastSwitchIter >= 0 && sc->iter - lastSwitchIter < minSchemeSteps) || (lastUpdateIter != sc->iter && decided)) return;
-	decided = true;
+	Law2_ScGeom_ViscBridgePhys_HertzViscous& law = lawToSwitch(sc);
+	decided                                      = true;
 	const Real other         = safety * otherSchemeLimit(sc, implicit);
 	const Real explicitLimit = implicit ? other : dtBound, implicitLimit = implicit ? dtBound : other;
 	if (vb::implicitIsCheaper(implicit, accuracyStepNow, explicitLimit, implicitLimit, implicitCost) == implicit) return;
