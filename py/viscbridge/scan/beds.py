@@ -49,7 +49,9 @@ def settled_bed(path, **settling_args):
         if scene.kinetic_energy() < 1e-4 * max(scene.released_energy(), 1e-30):
             break
         scene.run(duration=0.02, stop_when_unstable=False)
-    tmp = path + '.part.yade.gz'
+    # a name of this process's own: parallel cases of one scan may build the same bed at once, and a
+    # shared temporary would be renamed under another writer (a truncated bed for whoever loads it)
+    tmp = '%s.%d.part.yade.gz' % (path, os.getpid())
     O.save(tmp)
     os.replace(tmp, path)
     return path
