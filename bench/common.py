@@ -123,6 +123,11 @@ def random_velocities(speed=0.01, seed=3):
             b.state.vel = tuple(rng.uniform(-speed, speed) for _ in range(3))
 
 
+# ViscBridgeImplicitSolver's wall-time counters [s], one per part of its step (the solve's products and
+# preconditioner are parts of timeSolve).
+SOLVER_TIMES = ('timeGather', 'timeFactorise', 'timeSolve', 'timeProducts', 'timePreconditioner', 'timeApply', 'timeEnergy')
+
+
 def engine_seconds_per_step(steps):
     """Run `steps` steps and return the summed engine time per step [s] (YADE's timers)."""
     from yade import O

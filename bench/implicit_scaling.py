@@ -27,7 +27,6 @@ sys.path.insert(0, HERE)
 import common  # noqa: E402
 
 R, MU, DT_IMPLICIT, WARM, STEPS, ROUNDS = 0.5e-3, 100.0, 5e-6, 10, 20, 2
-SOLVER_PARTS = ('Gather', 'Factorise', 'Solve', 'Products', 'Preconditioner', 'Apply', 'Energy')  # ViscBridgeImplicitSolver.time…
 CONFIGS = (('explicit', None), ('implicit', 'cholesky'), ('implicit', 'multigrid'))
 LIQUID = dict(viscosity=MU, normalModel='adamsPerchard', tangentialModel='slip')
 
@@ -45,6 +44,11 @@ def lattice_bed(n, integration):
     common.lattice(side, side, side, radius=R, integration=integration, timeStepper=False, guard=False, viscosity=MU)
 
 
+def part_column(counter):
+    """The CSV column of a solver time counter (timeGather → ms_gather_per_step)."""
+    return 'ms_%s_per_step' % counter[4:].lower()
+
+
 def worker(kind, n, integration, preconditioner, out):
     from yade import O
     import yade.wrapper as yw
@@ -57,7 +61,7 @@ def worker(kind, n, integration, preconditioner, out):
         solver.preconditioner = preconditioner
     O.run(WARM, True)
     before = (solver.totalIterations, solver.solves, solver.factorisations) if solver else (0, 1, 0)
-    parts_before = {p: getattr(solver, 'time' + p) for p in SOLVER_PARTS} if solver else {}
+    times_before = {k: getattr(solver, k) for k in common.SOLVER_TIMES} if solver else {}
     per_step = common.engine_seconds_per_step(STEPS)
     spheres = sum(1 for b in O.bodies if isinstance(b.shape, yw.Sphere))
     row = dict(bed=kind, spheres=spheres, scheme=integration if not solver else 'implicit/' + preconditioner,
@@ -68,7 +72,7 @@ def worker(kind, n, integration, preconditioner, out):
         solves = max(1, solver.solves - before[1])
         row.update(solver_ms_per_step=1e-6 * solver.execTime / STEPS, iterations_per_solve=(solver.totalIterations - before[0]) / solves,
                    refreshes=solver.factorisations - before[2], stored_blocks=solver.factorBlocks, levels=solver.levels,
-                   **{'ms_%s_per_step' % p.lower(): 1e3 * (getattr(solver, 'time' + p) - parts_before[p]) / STEPS for p in SOLVER_PARTS})
+                   **{part_column(k): 1e3 * (getattr(solver, k) - times_before[k]) / STEPS for k in common.SOLVER_TIMES})
     json.dump(row, open(out, 'w'))
 
 
@@ -92,7 +96,7 @@ def main(beds):
                     '(%.1f iterations/solve, %d refreshes, %d blocks, %.0f MB)' % (
                         r['iterations_per_solve'], r['refreshes'], r['stored_blocks'], r['peak_rss_mb']) if 'levels' in r else ''), flush=True)
                 if 'levels' in r:
-                    print('    solver ms/step: ' + ', '.join('%s %.2f' % (p.lower(), r['ms_%s_per_step' % p.lower()]) for p in SOLVER_PARTS), flush=True)
+                    print('    solver ms/step: ' + ', '.join('%s %.2f' % (k[4:].lower(), r[part_column(k)]) for k in common.SOLVER_TIMES), flush=True)
                 if r['scheme'] not in best or r['ms_per_step'] < best[r['scheme']]['ms_per_step']:
                     best[r['scheme']] = r
         explicit = best['explicit']['ms_per_step']

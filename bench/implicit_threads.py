@@ -19,7 +19,6 @@ sys.path.insert(0, HERE)
 import common  # noqa: E402
 
 R, SIDE, LAYERS, STEPS, ROUNDS = 0.5e-3, 41, 6, 40, 3
-SPLIT = ('timeGather', 'timeFactorise', 'timeSolve', 'timeProducts', 'timePreconditioner', 'timeApply', 'timeEnergy')
 
 
 def bed():
@@ -35,7 +34,7 @@ def worker(out):
     bed()
     O.run(20, True)
     solver = next(e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver))
-    before = {k: getattr(solver, k) for k in SPLIT}
+    before = {k: getattr(solver, k) for k in common.SOLVER_TIMES}
     iterations0, factorisations0 = solver.totalIterations, solver.factorisations
     O.timingEnabled = True
     solver.execTime = 0
@@ -44,7 +43,7 @@ def worker(out):
                    solver_seconds_per_step=solver.execTime * 1e-9 / STEPS,
                    iterations_per_step=(solver.totalIterations - iterations0) / STEPS,
                    factorisations=solver.factorisations - factorisations0,
-                   **{k: (getattr(solver, k) - before[k]) / STEPS for k in SPLIT}), open(out, 'w'))
+                   **{k: (getattr(solver, k) - before[k]) / STEPS for k in common.SOLVER_TIMES}), open(out, 'w'))
 
 
 if len(sys.argv) > 2 and sys.argv[1] == '--worker':
@@ -69,5 +68,5 @@ else:
         best[1]['spheres'], best[1]['bridges'], best[1]['factorBlocks'], ROUNDS))
     for r in rows:
         print('%d thread(s): solver %.2f (%s); speed-up %.2f' % (
-            r['threads'], 1e3 * r['solver_seconds_per_step'], ', '.join('%s %.2f' % (k[4:], 1e3 * r[k]) for k in SPLIT), r['speedup']))
+            r['threads'], 1e3 * r['solver_seconds_per_step'], ', '.join('%s %.2f' % (k[4:], 1e3 * r[k]) for k in common.SOLVER_TIMES), r['speedup']))
     print('written', common.write_rows(os.path.join(common.RESULTS, 'implicit_threads.csv'), rows))

@@ -72,7 +72,6 @@ def state_summary(scene):
 
 
 ROUNDS = 3
-SOLVER_TIMES = ('timeGather', 'timeFactorise', 'timeSolve', 'timeProducts', 'timePreconditioner', 'timeApply', 'timeEnergy')
 
 
 def implicit_run(mu):
@@ -86,7 +85,7 @@ def implicit_run(mu):
                factorisations=solver.factorisations, fallbacks=solver.fallbacks, bridges=scene.bridges(),
                kinetic_over_released=ke / released, unstable=why or '')
     row.update({'solver_seconds': solver.execTime * 1e-9, 'interaction_loop_seconds': engine_time(yw.InteractionLoop)})
-    row.update({k: getattr(solver, k) for k in SOLVER_TIMES})
+    row.update({k: getattr(solver, k) for k in common.SOLVER_TIMES})
     return row, scene
 
 
