@@ -72,6 +72,7 @@ def worker(kind, n, integration, preconditioner, out):
         solves = max(1, solver.solves - before[1])
         row.update(solver_ms_per_step=1e-6 * solver.execTime / STEPS, iterations_per_solve=(solver.totalIterations - before[0]) / solves,
                    refreshes=solver.factorisations - before[2], stored_blocks=solver.factorBlocks, levels=solver.levels,
+                   factor_kind=solver.factorKind or '-',
                    **{part_column(k): 1e3 * (getattr(solver, k) - times_before[k]) / STEPS for k in common.SOLVER_TIMES})
     json.dump(row, open(out, 'w'))
 
@@ -93,8 +94,9 @@ def main(beds):
                 r = measure(kind, n, integration, pre)
                 print('%-8s %6d spheres %-19s %8.2f ms/step %7.2f µs/particle-step %s' % (
                     kind, r['spheres'], r['scheme'], r['ms_per_step'], r['us_per_particle_step'],
-                    '(%.1f iterations/solve, %d refreshes, %d blocks, %.0f MB)' % (
-                        r['iterations_per_solve'], r['refreshes'], r['stored_blocks'], r['peak_rss_mb']) if 'levels' in r else ''), flush=True)
+                    '(%.1f iterations/solve, %d refreshes, %d blocks, %s, %.0f MB)' % (
+                        r['iterations_per_solve'], r['refreshes'], r['stored_blocks'], r['factor_kind'], r['peak_rss_mb'])
+                    if 'levels' in r else ''), flush=True)
                 if 'levels' in r:
                     print('    solver ms/step: ' + ', '.join('%s %.2f' % (k[4:].lower(), r[part_column(k)]) for k in common.SOLVER_TIMES), flush=True)
                 if r['scheme'] not in best or r['ms_per_step'] < best[r['scheme']]['ms_per_step']:

@@ -167,6 +167,34 @@ TEST(ImplicitLinearAlgebra, CholmodFactorRefactorisesTheAnalysedPattern)
 	EXPECT_LE((Ax - b).norm(), 1e-11 * b.norm());
 }
 
+// A sparse factor (a chain) is simplicial, a dense one (every body coupled to every other)
+// supernodal; each solves exactly and refuses a matrix that is not positive definite (a simplicial
+// LDLᵀ would factorise it).
+TEST(ImplicitLinearAlgebra, CholmodFactorChoosesItsKindByDensity)
+{
+	for (const bool complete : { false, true }) {
+		const int    n = 40;
+		BlockMatrix6 A;
+		A.diagonal.assign(n, (complete ? 2.0 * n : 4.0) * Mat6::Identity());
+		for (int i = 0; i < n; ++i)
+			for (int j = i + 1; j < (complete ? n : std::min(i + 2, n)); ++j) {
+				A.pairs.emplace_back(i, j);
+				A.upper.push_back(-Mat6::Identity());
+			}
+		CholmodFactor chol;
+		chol.analyse(n, A.pairs);
+		ASSERT_TRUE(chol.factorise(A)) << complete;
+		EXPECT_EQ(chol.supernodal(), complete);
+		const VecXd b = VecXd::Random(6 * n);
+		VecXd       x, Ax;
+		chol.solve(b, x);
+		A.multiply(x, Ax);
+		EXPECT_LE((Ax - b).norm(), 1e-11 * b.norm()) << complete;
+		A.diagonal[n / 2](3, 3) = -1;
+		EXPECT_FALSE(chol.factorise(A)) << complete;
+	}
+}
+
 // A chain of bodies has no fill (each eliminated body couples only its two neighbours), and a
 // matrix that is not positive definite is refused instead of factorised.
 TEST(ImplicitLinearAlgebra, CholmodFactorFillAndRefusal)
@@ -290,4 +318,30 @@ TEST(ImplicitLinearAlgebra, AnAgedFactorStillConverges)
 	VecXd             x;
 	const SolveReport rep = solvedByCG(older, newer, 1e-10, 200, x);
 	EXPECT_GT(rep.iterations, 2);
+}
+
+// The step-error filter (physics.md A1a) is (M + Δt D)⁻¹ M on the free rows, with the prescribed
+// components and the wall's motion at zero — by one application of a fresh factor as by CG — and,
+// D being dissipative, it never amplifies a perturbation in the kinetic-energy norm.
+TEST(ImplicitLinearAlgebra, StepErrorFilterIsTheDampedInverse)
+{
+	std::mt19937                g(19);
+	const ImplicitViscousSystem sys = randomSystem(g, 24, 0.05);
+	LaggedCholesky              pre;
+	ASSERT_TRUE(pre.refresh(sys, false));
+	VecXd u = VecXd::Random(sys.size()), mask(sys.size());
+	for (size_t d = 0; d < sys.size(); ++d)
+		mask[d] = sys.isFree(d) ? 1 : 0;
+	u = u.cwiseProduct(mask); // as the solver's: a change of velocity, none on a blocked component
+	for (const bool factor : { true, false }) {
+		VecXd y, Ay;
+		sys.filter(u, y, 1e-12, 500, factor ? &pre : nullptr, factor);
+		sys.apply(y, Ay, false);
+		const VecXd Mu = sys.inertialLoad(u);
+		for (size_t d = 0; d < sys.size(); ++d) {
+			if (sys.isFree(d)) EXPECT_NEAR(Ay[d], Mu[d], 1e-9 * Mu.norm()) << factor << " row " << d;
+			else EXPECT_EQ(y[d], 0) << factor << " prescribed " << d;
+		}
+		EXPECT_LT(y.dot(sys.inertialLoad(y)), 0.99 * u.dot(sys.inertialLoad(u))) << factor; // the bridges damp it
+	}
 }

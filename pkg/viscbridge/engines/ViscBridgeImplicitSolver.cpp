@@ -109,45 +109,39 @@ void ViscBridgeImplicitSolver::action()
 // A1a: the error of this step against its trapezoidal companion is half the change of the velocity
 // increments, ½(Δv_n − Δv_{n−1}) (per body: a force that changes over the step, the viscous one
 // included).  Backward Euler follows that only as far as (M + Δt D)⁻¹ M lets it: filtered twice by
-// this step's system — the filtered estimate of stiff solvers, which scales like the true error
+// this step's matrix — the filtered estimate of stiff solvers, which scales like the true error
 // both where Δt·C/m is small (z²/2) and large (1/z), so that the stiff relaxations of the network do
-// not count as errors while its soft, collective motions do.  Two more solves with this step's
-// system and preconditioner, to a loose tolerance.
+// not count as errors while its soft, collective motions do.  With the Cholesky factor, when this
+// step's solve showed it close to exact, each filter is one application of it; otherwise CG with
+// this step's preconditioner to a loose tolerance.
 void ViscBridgeImplicitSolver::filterStepError(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
                                                const vb::Preconditioner* pre)
 {
 	const size_t          n     = scene->bodies->size();
 	static const Vector3r none  = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
 	const bool            valid = previousChange.size() == n && previousChangeIter == scene->iter - 1 && !distributed::active(scene);
-	std::vector<vb::SystemBody> bodies = sys.bodies();
-	std::vector<Vector3r>       change(n, none);
+	stepChange.assign(n, none);
+	Eigen::VectorXd u = Eigen::VectorXd::Zero(static_cast<long>(sys.size()));
 	for (size_t i = 0; i < ids.size(); ++i) {
-		vb::SystemBody& b   = bodies[i];
-		change[ids[i]]      = x.segment<3>(6 * static_cast<long>(i)) - b.vel;
+		stepChange[ids[i]]  = x.segment<3>(6 * static_cast<long>(i)) - sys.bodies()[i].vel;
 		const Vector3r& was = valid ? previousChange[ids[i]] : none;
-		b.vel               = was.allFinite() ? Vector3r(0.5 * (change[ids[i]] - was)) : Vector3r::Zero();
-		for (int d = 0; d < 3; ++d)
-			if (!b.free[d]) b.vel[d] = 0;
-		b.angVel.setZero(), b.force.setZero(), b.torque.setZero();
+		if (was.allFinite()) u.segment<3>(6 * static_cast<long>(i)) = 0.5 * (stepChange[ids[i]] - was);
 	}
-	previousChange.swap(change);
+	previousChange.swap(stepChange);
 	previousChangeIter = scene->iter;
 	stepErrorCovered.assign(n, 0);
 	stepErrorSq   = 0;
 	stepErrorIter = -1;
 	if (!valid) return;
-	std::vector<vb::SystemBridge> bridges = sys.bridges(); // the filter has no periodic shift
-	for (auto& c : bridges)
-		c.shiftVel.setZero();
-	Eigen::VectorXd dv = Eigen::VectorXd::Zero(static_cast<long>(sys.size()));
+	const bool      factor = pre && preconditionerInUse == preconditionerNames[0] && iterations <= kNearlyExactIterations;
+	Eigen::VectorXd filtered;
 	for (int pass = 0; pass < 2; ++pass) {
-		const vb::ImplicitViscousSystem filter(bodies, bridges, scene->dt);
-		filter.solve(dv, 1e-3, 100, pre); // an estimate: a loose tolerance, whatever CG reached
-		for (size_t i = 0; i < ids.size(); ++i)
-			bodies[i].vel = dv.segment<3>(6 * static_cast<long>(i));
+		sys.filter(u, filtered, 1e-3, 100, pre, factor);
+		for (size_t i = 0; i < ids.size(); ++i) // the next pass filters the translations only, as the first
+			u.segment<3>(6 * static_cast<long>(i)) = filtered.segment<3>(6 * static_cast<long>(i));
 	}
 	for (size_t i = 0; i < ids.size(); ++i) {
-		stepErrorSq += bodies[i].mass * bodies[i].vel.squaredNorm();
+		stepErrorSq += sys.bodies()[i].mass * u.segment<3>(6 * static_cast<long>(i)).squaredNorm();
 		stepErrorCovered[ids[i]] = 1;
 	}
 	stepErrorIter = scene->iter;
@@ -317,6 +311,7 @@ const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const 
 	const std::string kind = sys.size() == 0 ? preconditionerNames[2] : preconditioner;
 	if (kind == preconditionerNames[2]) {
 		preconditionerInUse = kind;
+		factorKind          = "";
 		return nullptr;
 	}
 	if (kind != preconditionerInUse) factorisation.reset();
@@ -350,6 +345,7 @@ const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const 
 		factorisedPattern.clear();
 		factorisedOrder.clear();
 		preconditionerInUse = preconditionerNames[2];
+		factorKind          = "";
 		return nullptr;
 	}
 	factorisedPattern = sortedPattern();
@@ -357,6 +353,7 @@ const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const 
 	factorisedIter    = scene->iter;
 	factorBlocks      = static_cast<long>(factorisation->storedBlocks());
 	levels            = factorisation->levels();
+	factorKind        = factorisation->factorKind();
 	refreshCost       = factorisation->refreshCost(sys.bridges().size());
 	cycleSolves = cycleIterations = 0;
 	++factorisations;

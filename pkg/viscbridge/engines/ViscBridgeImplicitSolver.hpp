@@ -62,6 +62,10 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	Real                  stepErrorSq   = 0;
 	std::vector<char>     stepErrorCovered;
 	std::vector<Vector3r> previousChange; // per body id: v_{n+1/2} − v_{n−1/2} of the last solve (NaN: none)
+	std::vector<Vector3r> stepChange;     // workspace: the same for this solve
+	// this step's solve reached 1e-6 in at most this many CG iterations: the factor is close to
+	// exact (a hundredfold per iteration or more), and one application of it is a filter
+	static constexpr int kNearlyExactIterations = 3;
 	long                  previousChangeIter = -1;
 	void filterStepError(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
 	                     const viscbridge::Preconditioner* pre);
@@ -98,7 +102,7 @@ public:
 		"The linear system is solved matrix-free by preconditioned conjugate gradients to the relative "
 		"residual `tolerance`, warm-started from the last step's viscous forces; the matrix products run "
 		"in parallel with OpenMP. The default preconditioner is a Cholesky factorisation of the "
-		"system assembled in 6×6 blocks (one block row per body), by SuiteSparse's CHOLMOD (supernodal, on the BLAS), "
+		"system assembled in 6×6 blocks (one block row per body), by SuiteSparse's CHOLMOD (supernodal on the BLAS where the factor is dense, simplicial where it is sparse), "
 		"that is kept while the bridges stay the same and "
 		"refreshed when that pays: when the last solve's iterations reach the average cost per step since "
 		"the last refresh, the refresh's own cost (refreshCost, in iterations) included — the renewal "
@@ -121,6 +125,7 @@ public:
 		((bool,warmStart,true,,"Start CG from the velocities the last step's viscous forces would give (else from the current velocities)."))
 		((string,preconditioner,"cholesky",Attr::triggerPostLoad,"'cholesky' (lagged sparse factorisation in 6×6 blocks: a few iterations per step, but its fill, memory and sweeps grow faster than the bodies), 'multigrid' (lagged aggregation multigrid whose coarse unknowns are the rigid motions of clusters of bodies, P15b: memory and cost per iteration grow linearly with the bodies, at about 100 iterations per solve on stiff networks) or 'jacobi' (6×6 blocks per body). preconditionerInUse says which ran; docs/performance.md §8 compares them."))
 		((string,preconditionerInUse,"",Attr::readonly|Attr::noSave,"The preconditioner of the last solve: 'cholesky', 'multigrid' or 'jacobi' (also when a factorisation failed and block Jacobi took over)."))
+		((string,factorKind,"",Attr::readonly|Attr::noSave,"With 'cholesky': the kind of the last factorisation, 'supernodal' (dense BLAS kernels on groups of columns: large or densely bridged beds) or 'simplicial' (column by column: small, sparse ones, where it is faster); CHOLMOD chooses from the factor's flops per entry (docs/performance.md §2). Empty otherwise."))
 		((int,levels,0,Attr::readonly|Attr::noSave,"Levels of the last multigrid built, the coarsest (factorised) included; 1 for the Cholesky factor."))
 		((int,refreshIterations,12,Attr::triggerPostLoad,"With 'cholesky' or 'multigrid': recompute the preconditioner at the latest when the last solve took more CG iterations than this (with 'multigrid': more than this beyond the first solve after the last refresh), >= 1 (earlier when the renewal rule says a refresh pays; it ages as the bridges' normals turn: docs/performance.md §2)."))
 		((long,factorisations,0,Attr::readonly,"Refreshes of the lagged preconditioner (Cholesky factorisations or multigrid builds)."))

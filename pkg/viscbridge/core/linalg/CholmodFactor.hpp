@@ -1,8 +1,12 @@
 // A sparse Cholesky factorisation A = L Lᵀ of a symmetric positive definite matrix of 6×6 blocks by
-// SuiteSparse's CHOLMOD (through Eigen's CholmodSupport): supernodal, so the factorisation and the
-// sweeps run as dense BLAS kernels on groups of columns; the fill-reducing order is CHOLMOD's (AMD,
-// or METIS where that fills less).  It replaced a hand-written block factorisation that it beats 9–66×
-// in factorisation and 5–8× in the sweeps from 10³ to 10⁴ bodies (docs/performance.md §8).  YADE-free.
+// SuiteSparse's CHOLMOD (through Eigen's CholmodSupport): supernodal where the factor is dense
+// enough, so the factorisation and the sweeps run as dense BLAS kernels on groups of columns, and
+// simplicial (plain loops, no BLAS call per column group) on a sparse factor, where a supernodal
+// sweep is mostly BLAS call overhead (docs/performance.md §2: 300-sphere bed).  The choice is CHOLMOD's
+// own rule, flops per factor entry against `supernodal_switch`, with the switch moved from its
+// default 40 to kSupernodalSwitch.  The fill-reducing order is CHOLMOD's (AMD, or METIS where that
+// fills less).  It replaced a hand-written block factorisation that it beats 9–66× in factorisation
+// and 5–8× in the sweeps from 10³ to 10⁴ bodies (docs/performance.md §8).  YADE-free.
 //
 //   analyse(n, pairs)  the order and the structure of L, for n block rows coupled by `pairs` (i < j)
 //   factorise(A)       the numbers, for a matrix of the analysed pattern
@@ -35,6 +39,12 @@ public:
 			return;
 		}
 		fillLower(nullptr);
+		cholmod_common& c    = llt_.cholmod();
+		c.supernodal         = CHOLMOD_AUTO;
+		c.supernodal_switch  = kSupernodalSwitch;
+		c.final_asis         = 0; // a simplicial factor LLᵀ too, not LDLᵀ: an indefinite A is refused
+		c.final_ll           = 1;
+		c.final_super        = 1;
 		llt_.analyzePattern(lower_);
 		analysed_ = llt_.info() == Eigen::Success;
 	}
@@ -56,6 +66,7 @@ public:
 	}
 
 	bool factorised() const { return factorised_; }
+	bool supernodal() const { return llt_.supernodal(); } // else simplicial (kSupernodalSwitch)
 	int  size() const { return static_cast<int>(below_.size()); }
 	// 6×6 blocks' worth of L below its diagonal blocks (fill included), from CHOLMOD's count of L's entries.
 	size_t offDiagonalBlocks() const { return static_cast<size_t>(std::max(0.0, (lnz() - 21.0 * size()) / 36.0)); }
@@ -65,7 +76,15 @@ public:
 	double solveWork() const { return 4.0 * lnz() / 72.0; }
 
 private:
-	using CholmodLLT = Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower>;
+	// CHOLMOD's factor, with the kind CHOLMOD chose for it readable
+	class CholmodLLT : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> {
+	public:
+		bool supernodal() const { return m_cholmodFactor && m_cholmodFactor->is_super; }
+	};
+	// Flops per factor entry below which the factor is simplicial.  Measured (docs/performance.md §2):
+	// the 300-sphere settling bed (up to ~45) is 12 % faster simplicial (sweeps 1.5× faster, refresh
+	// 1.5× slower); the wetted 1000-sphere random bed (~300) is 3× slower simplicial (refresh 4.5×).
+	static constexpr double kSupernodalSwitch = 100;
 
 	double lnz() const { return size() == 0 ? 0.0 : const_cast<CholmodLLT&>(llt_).cholmod().lnz; }
 

@@ -316,6 +316,33 @@ public:
 		return rep;
 	}
 
+	// y ≈ (M + Δt D)⁻¹ M u on the free rows, with the prescribed components and the periodic shift
+	// at zero: how this step's matrix filters a velocity perturbation u (physics.md A1a).  `factor`:
+	// pre is a factorisation of this matrix close enough to be its inverse, so one application is
+	// the solve; else CG to `tolerance` from y's value, stopping at maxIterations with whatever it
+	// reached (an estimate needs no fallback).
+	void filter(const VecXd& u, VecXd& y, double tolerance, int maxIterations, const Preconditioner* pre, bool factor) const
+	{
+		VecXd mask(size());
+		for (size_t d = 0; d < size(); ++d)
+			mask[d] = isFree(d) ? 1 : 0;
+		const VecXd b = inertialLoad(u).cwiseProduct(mask);
+		if (factor && pre) {
+			pre->apply(b, y);
+			y.array() *= mask.array();
+			return;
+		}
+		const double bnorm = b.norm();
+		y                  = y.size() == b.size() ? VecXd(y.cwiseProduct(mask)) : VecXd::Zero(b.size());
+		if (bnorm == 0) return;
+		SolveReport rep;
+		const auto  product = maskedProduct(mask, rep);
+		VecXd       r;
+		product(y, r);
+		r = b - r;
+		conjugateGradients(y, r, bnorm, tolerance, maxIterations, product, preconditioning(pre, mask, rep), SerialReduction(), rep);
+	}
+
 	// Forces −D v (with the shift) on every body, for the solved velocities: what the bridges exert.
 	std::vector<BridgeResistance> bridgeForces(const VecXd& x) const
 	{

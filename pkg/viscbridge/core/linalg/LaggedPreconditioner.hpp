@@ -29,6 +29,7 @@ public:
 	}
 	virtual size_t storedBlocks() const = 0; // 6×6 blocks below the diagonal it keeps (memory)
 	virtual int    levels() const { return 1; }
+	virtual const char* factorKind() const { return ""; } // the Cholesky factor's: "supernodal" or "simplicial"
 
 	// z ≈ A⁻¹ r: r's blocks of the rows' bodies gathered, solved on the rows, scattered back.
 	void apply(const VecXd& r, VecXd& z) const override
@@ -79,7 +80,8 @@ public:
 		if (!samePattern || !factor_.factorised() || factor_.size() != A.size()) factor_.analyse(A.size(), A.pairs);
 		return ready_ = factor_.factorise(A);
 	}
-	size_t storedBlocks() const override { return factor_.offDiagonalBlocks(); }
+	size_t      storedBlocks() const override { return factor_.offDiagonalBlocks(); }
+	const char* factorKind() const override { return factor_.supernodal() ? "supernodal" : "simplicial"; }
 
 private:
 	double refreshWork() const override { return factor_.factorisationWork(); }
