@@ -111,9 +111,10 @@ void ViscBridgeImplicitSolver::action()
 // included).  Backward Euler follows that only as far as (M + Δt D)⁻¹ M lets it: filtered twice by
 // this step's matrix — the filtered estimate of stiff solvers, which scales like the true error
 // both where Δt·C/m is small (z²/2) and large (1/z), so that the stiff relaxations of the network do
-// not count as errors while its soft, collective motions do.  With the Cholesky factor, when this
-// step's solve showed it close to exact, each filter is one application of it; otherwise CG with
-// this step's preconditioner to a loose tolerance.
+// not count as errors while its soft, collective motions do.  With the Cholesky factor, which the
+// refresh rule keeps within a few CG iterations of exact, each filter is one application of it (an
+// estimate needs no more: bench/accuracy_target.py keeps its calibration); otherwise CG with this
+// step's preconditioner to a loose tolerance.
 void ViscBridgeImplicitSolver::filterStepError(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
                                                const vb::Preconditioner* pre)
 {
@@ -133,7 +134,7 @@ void ViscBridgeImplicitSolver::filterStepError(const vb::ImplicitViscousSystem& 
 	stepErrorSq   = 0;
 	stepErrorIter = -1;
 	if (!valid) return;
-	const bool      factor = pre && preconditionerInUse == preconditionerNames[0] && iterations <= kNearlyExactIterations;
+	const bool      factor = pre && preconditionerInUse == preconditionerNames[0];
 	Eigen::VectorXd filtered;
 	for (int pass = 0; pass < 2; ++pass) {
 		sys.filter(u, filtered, 1e-3, 100, pre, factor);

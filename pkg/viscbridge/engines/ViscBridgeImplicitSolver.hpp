@@ -63,9 +63,6 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	std::vector<char>     stepErrorCovered;
 	std::vector<Vector3r> previousChange; // per body id: v_{n+1/2} − v_{n−1/2} of the last solve (NaN: none)
 	std::vector<Vector3r> stepChange;     // workspace: the same for this solve
-	// this step's solve reached 1e-6 in at most this many CG iterations: the factor is close to
-	// exact (a hundredfold per iteration or more), and one application of it is a filter
-	static constexpr int kNearlyExactIterations = 3;
 	long                  previousChangeIter = -1;
 	void filterStepError(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
 	                     const viscbridge::Preconditioner* pre);

@@ -71,9 +71,17 @@ public:
 	// 6×6 blocks' worth of L below its diagonal blocks (fill included), from CHOLMOD's count of L's entries.
 	size_t offDiagonalBlocks() const { return static_cast<size_t>(std::max(0.0, (lnz() - 21.0 * size()) / 36.0)); }
 	// The work of one factorisation and of one solve in 6×6 block × 6-vector products (72 flops), from
-	// CHOLMOD's flop count and L's entries: what the implicit solver weighs to decide when a refresh pays.
-	double factorisationWork() const { return size() == 0 ? 0.0 : const_cast<CholmodLLT&>(llt_).cholmod().fl / 72.0; }
-	double solveWork() const { return 4.0 * lnz() / 72.0; }
+	// CHOLMOD's flop count and L's entries, at the supernodal factor's speed: what the implicit solver
+	// weighs to decide when a refresh pays.
+	double factorisationWork() const
+	{
+		return size() == 0 ? 0.0 : const_cast<CholmodLLT&>(llt_).cholmod().fl / 72.0 * (supernodal() ? 1.0 : kSimplicialFactorisationTime);
+	}
+	double solveWork() const { return 4.0 * lnz() / 72.0 * (supernodal() ? 1.0 : kSimplicialSweepTime); }
+	// A simplicial factor's time against a supernodal one's of the same flops, measured on the
+	// 300-sphere settling bed (docs/performance.md §2): its factorisation 1.5× slower (no BLAS-3), its
+	// sweeps 0.65× (no BLAS call per supernode).
+	static constexpr double kSimplicialFactorisationTime = 1.5, kSimplicialSweepTime = 0.65;
 
 private:
 	// CHOLMOD's factor, with the kind CHOLMOD chose for it readable
