@@ -318,8 +318,8 @@ public:
 
 	// y ≈ (M + Δt D)⁻¹ M u on the free rows, with the prescribed components and the periodic shift
 	// at zero: how this step's matrix filters a velocity perturbation u (physics.md A1a).  `factor`:
-	// pre is a factorisation of this matrix close enough to be its inverse, so one application is
-	// the solve; else CG to `tolerance` from y's value, stopping at maxIterations with whatever it
+	// pre is a Cholesky factor of this matrix or of a recent one (lagged), and its one application
+	// stands for the solve, as an estimate allows; else CG to `tolerance` from y's value, stopping at maxIterations with whatever it
 	// reached (an estimate needs no fallback).
 	void filter(const VecXd& u, VecXd& y, double tolerance, int maxIterations, const Preconditioner* pre, bool factor) const
 	{
