@@ -65,7 +65,7 @@ def plot_history(data, path, title='', stopped_at=None):
     ax.grid(True, which='both', alpha=0.3)
     dts = [(x, y) for x, y in zip(t, data.get('dt', [])) if y > 0]
     if dts:
-        ax_dt.semilogy(*zip(*dts), color='tab:gray', label='time step')
+        ax_dt.semilogy(*zip(*dts), color='black', linewidth=1.5, label='time step')
     ax_dt.set_ylabel('Δt [s]')
     ax_dt.set_xlabel('time [s]')
     ax_dt.grid(True, which='both', alpha=0.3)
@@ -75,6 +75,7 @@ def plot_history(data, path, title='', stopped_at=None):
         ax_b.plot(t, data['bridges'], color='tab:green', linewidth=1)
         ax_b.set_ylabel('bridges', color='tab:green')
         ax_b.yaxis.set_major_locator(MaxNLocator(integer=True))
+        ax_b.grid(False)  # the Δt axis' grid is the panel's; a second one would hide the Δt line
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
