@@ -213,15 +213,21 @@ public:
 	struct FreeProblem {
 		VecXd mask, prescribed, rhs;
 	};
+	// 1 on the free unknowns, 0 on the prescribed ones.
+	VecXd freeMask() const
+	{
+		VecXd mask(size());
+		for (size_t d = 0; d < size(); ++d)
+			mask[d] = isFree(d) ? 1 : 0;
+		return mask;
+	}
 	FreeProblem freeProblem(const VecXd& others) const
 	{
 		const size_t n       = size();
 		const VecXd  current = currentVelocities();
-		FreeProblem  f { VecXd::Zero(n), VecXd::Zero(n), VecXd() };
-		for (size_t d = 0; d < n; ++d) {
-			if (isFree(d)) f.mask[d] = 1;
-			else if (others[d] == 0) f.prescribed[d] = current[d];
-		}
+		FreeProblem  f { freeMask(), VecXd::Zero(n), VecXd() };
+		for (size_t d = 0; d < n; ++d)
+			if (!isFree(d) && others[d] == 0) f.prescribed[d] = current[d];
 		f.rhs = (rightHandSide() - prescribedLoad(f.prescribed) - inertialLoad(f.prescribed)).cwiseProduct(f.mask);
 		return f;
 	}
@@ -319,14 +325,12 @@ public:
 	// y ≈ (M + Δt D)⁻¹ M u on the free rows, with the prescribed components and the periodic shift
 	// at zero: how this step's matrix filters a velocity perturbation u (physics.md A1a).  `factor`:
 	// pre is a Cholesky factor of this matrix or of a recent one (lagged), and its one application
-	// stands for the solve, as an estimate allows; else CG to `tolerance` from y's value, stopping at maxIterations with whatever it
-	// reached (an estimate needs no fallback).
+	// stands for the solve, as an estimate allows; else CG to `tolerance` from y's value, stopping
+	// at maxIterations with whatever it reached (an estimate needs no fallback).
 	void filter(const VecXd& u, VecXd& y, double tolerance, int maxIterations, const Preconditioner* pre, bool factor) const
 	{
-		VecXd mask(size());
-		for (size_t d = 0; d < size(); ++d)
-			mask[d] = isFree(d) ? 1 : 0;
-		const VecXd b = inertialLoad(u).cwiseProduct(mask);
+		const VecXd mask = freeMask();
+		const VecXd b    = inertialLoad(u).cwiseProduct(mask);
 		if (factor && pre) {
 			pre->apply(b, y);
 			y.array() *= mask.array();
