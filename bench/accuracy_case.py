@@ -132,10 +132,13 @@ def run_fixed(case, mu, integration, k, tolerance=None, slopes=False):
     return _sampled(case, advance, slopes)
 
 
-def run_stepper(case, mu, integration=None, safety=None, accuracy=None):
+def run_stepper(case, mu, integration=None, safety=None, accuracy=None, max_dt=None):
     """Run T with ViscBridgeTimeStepper (at `safety`, with the tolerance `accuracy`, integration
-    'auto' by default when it is given), stopping at the first step at or after each sample time."""
+    'auto' by default when it is given; Δt held at most `max_dt`, its maxDt), stopping at the first
+    step at or after each sample time."""
     case.prepare(mu, integration, stepper=True, safety=safety, accuracy=accuracy)
+    if max_dt:
+        next(e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper)).maxDt = max_dt
     O.dt = 0  # the stepper's first step sets it from its bound, without the growth limit
 
     def advance(t, slopes):

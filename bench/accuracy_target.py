@@ -1,6 +1,7 @@
 # Accuracy as the input: the error a tolerance achieves and what it costs, against the oracle.
 #
 #   ./yadew run bench/accuracy_target.py [--cases bed45,settling300] [--mu 1,10,100,1000] [--tol 1e-1,1e-2,1e-3]
+#   ./yadew run bench/accuracy_target.py --calibration [--cases ...] [--mu ...]   # error ÷ estimate, fixed Δt
 #
 # For each case of bench/accuracy_case.py and each viscosity: a reference run; the runs with
 # viscbridge.engines(accuracy=tol) (integration 'auto': the stepper picks the scheme and Δt) for each
@@ -23,6 +24,9 @@ parser.add_argument('--cases', default='bed45,settling300')
 parser.add_argument('--mu', default='1,10,100,1000')
 parser.add_argument('--tol', default='1e-1,1e-2,1e-3')
 parser.add_argument('--replot', action='store_true', help='only redraw the figure from docs/perf/accuracy_target_summary.csv')
+parser.add_argument('--calibration', action='store_true',
+                    help='instead: the estimate against the true error of fixed implicit steps (the ladder, held by the '
+                         "stepper's maxDt), per case and viscosity, to docs/perf/accuracy_calibration.csv")
 args = parser.parse_args(sys.argv[1:])
 CASES = [ac.CASES[c]() for c in args.cases.split(',')]
 VISCOSITIES = [float(m) for m in args.mu.split(',')]
@@ -81,6 +85,28 @@ def oracle_rows(case, mu, ref, tightest):
     return rows
 
 
+def calibration(cases):
+    """True error ÷ errorEstimate of fixed implicit steps (physics.md A4a): what c has to cover."""
+    out = []
+    for case in cases:
+        for mu in VISCOSITIES:
+            ref = reference(case, mu)[0]
+            for k in IMPLICIT_K[case.name][:4]:
+                dt = case.T / ac.SAMPLES / k
+                r = ac.run_stepper(case, mu, 'implicit', max_dt=dt)
+                error = max(ac.errors(r, ref))
+                out.append(dict(case=case.name, viscosity=mu, dt=dt, steps=r['steps'], error=error, estimate=r['estimate'],
+                                ratio=error / r['estimate']))
+                print('%-11s μ %6g  Δt %.3g s  error %.2e  estimate %.2e  error/estimate %.2f' % (
+                    case.name, mu, dt, error, r['estimate'], out[-1]['ratio']))
+                sys.stdout.flush()
+    common.write_rows(os.path.join(common.RESULTS, 'accuracy_calibration.csv'), out)
+
+
+if args.calibration:
+    calibration(CASES)
+    sys.exit(0)
+
 rows, summary = [], []
 for case in ([] if args.replot else CASES):
     for mu in VISCOSITIES:
@@ -129,6 +155,7 @@ def plot(summary, png):
     import matplotlib
     matplotlib.use('Agg')
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
     cases = list(dict.fromkeys(s['case'] for s in summary))
     viscosities = list(dict.fromkeys(s['viscosity'] for s in summary))
     tolerances = sorted({s['tolerance'] for s in summary})
@@ -151,6 +178,10 @@ def plot(summary, png):
     ax_e.legend(fontsize=6)
     ax_c.axhline(2, color='grey', ls=':', lw=1, label='goal: 2× the oracle')
     ax_c.axhline(1, color='grey', lw=0.5)
+    ratios = [s['cost_ratio'] for s in summary if s['cost_ratio']] + [1, 2]
+    ax_c.set_yticks([t for t in (0.125, 0.25, 0.5, 1, 2, 4, 8, 16, 32) if min(ratios) / 2 <= t <= max(ratios) * 2])
+    ax_c.yaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter('%g'))
+    ax_c.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     ax_c.set_xlabel('tolerance (accuracy=...)')
     ax_c.set_ylabel('wall time / the oracle\'s')
     ax_c.set_title('cost against the cheapest fixed setting that meets the tolerance', fontsize=9)

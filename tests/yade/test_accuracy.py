@@ -87,6 +87,27 @@ def test_switching_schemes_mid_run_keeps_the_energy_balance():
     assert abs(O.energy.total()) <= 0.01 * abs(E['gravWork']), E
 
 
+def test_a_change_of_dt_alone_is_not_counted_as_an_error():
+    """A1: a bridged pair falling freely under gravity has a constant acceleration and no error at
+    any step; when Δt changes, the velocity change Δv = gΔt changes with it, and an estimate from
+    ½(Δv_n − Δv_{n−1}) would count that as an error (½g·Δ(Δt): 0.5 % of the speed at each 10 % growth)."""
+    mat = material()
+    O.bodies.append([utils.sphere((0, 0, 0), R, material=mat), utils.sphere((2.02 * R, 0, 0), R, material=mat)])
+    O.engines = viscbridge.engines(integration='implicit', guard=False, minRadius=R, viscosity=10.0, formationDistance=0.05 * R)
+    ts = stepper()
+    ts.maxDt = 1e-6
+    O.dt = 0
+    O.run(20, True)
+    assert sum(1 for i in O.interactions if i.phys.bridge) == 1
+    ts.maxDt = 4e-6  # the stepper grows dt by 10 % per step up to it: every step a change
+    errors = []
+    for _ in range(20):
+        O.step()
+        errors.append(ts.stepError)
+    assert O.dt == pytest.approx(4e-6, rel=1e-12)
+    assert max(errors) < 1e-9, errors
+
+
 @pytest.mark.parametrize('bad', [0, -1e-2, 1, 2.0, float('nan'), float('inf'), 'tight'])
 def test_bad_tolerances_are_refused_with_the_parameter_named(bad):
     with pytest.raises(ValueError, match='accuracy'):

@@ -106,15 +106,16 @@ void ViscBridgeImplicitSolver::action()
 	if (ViscBridgeContext::hasEngine(scene, "ViscBridgeTimeStepper")) filterStepError(sys, g.ids, x, pre);
 }
 
-// A1a: the error of this step against its trapezoidal companion is half the change of the velocity
-// increments, ½(Δv_n − Δv_{n−1}) (per body: a force that changes over the step, the viscous one
-// included).  Backward Euler follows that only as far as (M + Δt D)⁻¹ M lets it: filtered twice by
-// this step's matrix — the filtered estimate of stiff solvers, which scales like the true error
-// both where Δt·C/m is small (z²/2) and large (1/z), so that the stiff relaxations of the network do
-// not count as errors while its soft, collective motions do.  With the Cholesky factor, which the
-// refresh rule keeps within a few CG iterations of exact, each filter is one application of it (an
-// estimate needs no more: bench/accuracy_target.py keeps its calibration); otherwise CG with this
-// step's preconditioner to a loose tolerance.
+// A1a: the error of this step against its trapezoidal companion is ½Δt_n times the change of the
+// mean acceleration, ½Δt_n(Δv_n/Δt_n − Δv_{n−1}/Δt_{n−1}) (per body: a force that changes over the
+// step, the viscous one included) — per unit time, so that the controller's change of Δt, which
+// changes Δv with it, is not taken for an error.  Backward Euler follows that only as far as
+// (M + Δt D)⁻¹ M lets it: filtered twice by this step's matrix — the filtered estimate of stiff
+// solvers, which scales like the true error both where Δt·C/m is small (z²/2) and large (1/z), so
+// that the stiff relaxations of the network do not count as errors while its soft, collective
+// motions do.  With the Cholesky factor, which the refresh rule keeps within a few CG iterations of
+// exact, each filter is one application of it (an estimate needs no more: bench/accuracy_target.py
+// keeps its calibration); otherwise CG with this step's preconditioner to a loose tolerance.
 void ViscBridgeImplicitSolver::filterStepError(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
                                                const vb::Preconditioner* pre)
 {
@@ -123,10 +124,11 @@ void ViscBridgeImplicitSolver::filterStepError(const vb::ImplicitViscousSystem& 
 	const bool            valid = previousChange.size() == n && previousChangeIter == scene->iter - 1 && !distributed::active(scene);
 	stepChange.assign(n, none);
 	Eigen::VectorXd u = Eigen::VectorXd::Zero(static_cast<long>(sys.size()));
+	const Real            dt = scene->dt;
 	for (size_t i = 0; i < ids.size(); ++i) {
-		stepChange[ids[i]]  = x.segment<3>(6 * static_cast<long>(i)) - sys.bodies()[i].vel;
+		stepChange[ids[i]]  = (x.segment<3>(6 * static_cast<long>(i)) - sys.bodies()[i].vel) / dt;
 		const Vector3r& was = valid ? previousChange[ids[i]] : none;
-		if (was.allFinite()) u.segment<3>(6 * static_cast<long>(i)) = 0.5 * (stepChange[ids[i]] - was);
+		if (was.allFinite()) u.segment<3>(6 * static_cast<long>(i)) = 0.5 * dt * (stepChange[ids[i]] - was);
 	}
 	previousChange.swap(stepChange);
 	previousChangeIter = scene->iter;
