@@ -122,9 +122,9 @@ void ViscBridgeImplicitSolver::filterStepError(const vb::ImplicitViscousSystem& 
 	const size_t          n     = scene->bodies->size();
 	static const Vector3r none  = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
 	const bool            valid = previousChange.size() == n && previousChangeIter == scene->iter - 1 && !distributed::active(scene);
+	const Real            dt    = scene->dt;
 	stepChange.assign(n, none);
 	Eigen::VectorXd u = Eigen::VectorXd::Zero(static_cast<long>(sys.size()));
-	const Real            dt = scene->dt;
 	for (size_t i = 0; i < ids.size(); ++i) {
 		stepChange[ids[i]]  = (x.segment<3>(6 * static_cast<long>(i)) - sys.bodies()[i].vel) / dt;
 		const Vector3r& was = valid ? previousChange[ids[i]] : none;
