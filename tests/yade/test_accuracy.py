@@ -108,6 +108,33 @@ def test_a_change_of_dt_alone_is_not_counted_as_an_error():
     assert max(errors) < 1e-9, errors
 
 
+def test_a_bridge_forming_is_a_jump_of_the_model_not_an_error():
+    """A1: a bridge that forms between spheres closing at 0.1 m/s takes half their relative speed
+    in its first implicit step at 30 Pa·s (z = Δt·C/m* ≈ 1).  The next step's trapezoidal
+    companion must not compare against that jump of the model — it would report 3 % of the speed,
+    twice the error of the decay that follows — while the decay itself is counted."""
+    mat = material()
+    O.bodies.append([utils.sphere((0, 0, 0), R, material=mat), utils.sphere((2.2 * R, 0, 0), R, material=mat)])
+    O.bodies[0].state.vel, O.bodies[1].state.vel = (0.05, 0, 0), (-0.05, 0, 0)
+    O.engines = viscbridge.engines(gravity=(0, 0, 0), integration='implicit', guard=False, minRadius=R, viscosity=30.0,
+                                   formationDistance=0.1 * R, tangentialModel='none')
+    ts = stepper()
+    ts.maxDt = 1e-6
+    O.dt = 0
+    closing = lambda: O.bodies[0].state.vel[0] - O.bodies[1].state.vel[0]  # noqa: E731
+    while not any(i.phys.bridge for i in O.interactions if i.isReal):
+        before = closing()
+        O.step()
+        assert O.time < 1e-3, 'no bridge formed'
+    assert closing() < 0.6 * before  # the formation step: a jump of the relative speed
+    errors = []
+    for _ in range(3):
+        O.step()
+        errors.append(ts.stepError)  # of the step before: the formation step's, the next one's, …
+    assert 0 < errors[2], errors
+    assert errors[1] <= errors[2], errors
+
+
 @pytest.mark.parametrize('bad', [0, -1e-2, 1, 2.0, float('nan'), float('inf'), 'tight'])
 def test_bad_tolerances_are_refused_with_the_parameter_named(bad):
     with pytest.raises(ValueError, match='accuracy'):

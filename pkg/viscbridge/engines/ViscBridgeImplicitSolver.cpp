@@ -120,8 +120,9 @@ void ViscBridgeImplicitSolver::filterStepError(const vb::ImplicitViscousSystem& 
                                                const vb::Preconditioner* pre)
 {
 	const size_t          n     = scene->bodies->size();
-	static const Vector3r none  = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
-	const bool            valid = previousChange.size() == n && previousChangeIter == scene->iter - 1 && !distributed::active(scene);
+	static const Vector3r none   = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()); // not solved in that step
+	static const Vector3r jumped = Vector3r::Constant(std::numeric_limits<Real>::infinity());  // a jump of the model
+	const bool            valid  = previousChange.size() == n && previousChangeIter == scene->iter - 1 && !distributed::active(scene);
 	const Real            dt    = scene->dt;
 	stepChange.assign(n, none);
 	Eigen::VectorXd u = Eigen::VectorXd::Zero(static_cast<long>(sys.size()));
@@ -129,7 +130,16 @@ void ViscBridgeImplicitSolver::filterStepError(const vb::ImplicitViscousSystem& 
 		stepChange[ids[i]]  = (x.segment<3>(6 * static_cast<long>(i)) - sys.bodies()[i].vel) / dt;
 		const Vector3r& was = valid ? previousChange[ids[i]] : none;
 		if (was.allFinite()) u.segment<3>(6 * static_cast<long>(i)) = 0.5 * dt * (stepChange[ids[i]] - was);
+		else if (!std::isinf(was[0])) stepChange[ids[i]] = jumped; // its first solved step (below)
 	}
+	// a bridge that formed this step, or a body solved for the first time (its bridges formed under
+	// the explicit scheme, or the scheme just switched), changed the model at once: the body's change
+	// of velocity in this step is the model's jump, not one the next step's trapezoidal companion
+	// should compare to (the stepper's raw estimate skips a formation step the same way, A1)
+	for (const BridgeEvent& e : ViscBridgeContext::of(scene).events(scene->iter))
+		if (e.kind == BridgeEvent::Kind::formed)
+			for (Body::id_t id : { e.id1, e.id2 })
+				if (static_cast<size_t>(id) < n) stepChange[id] = jumped;
 	previousChange.swap(stepChange);
 	previousChangeIter = scene->iter;
 	stepErrorCovered.assign(n, 0);

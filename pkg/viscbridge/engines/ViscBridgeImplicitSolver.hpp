@@ -61,7 +61,7 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	long                  stepErrorIter = -1;
 	Real                  stepErrorSq   = 0;
 	std::vector<char>     stepErrorCovered;
-	std::vector<Vector3r> previousChange; // per body id: (v_{n+1/2} − v_{n−1/2})/Δt of the last solve (NaN: none)
+	std::vector<Vector3r> previousChange; // per body id: (v_{n+1/2} − v_{n−1/2})/Δt of the last solve (NaN: not solved; ∞: a jump of the model)
 	std::vector<Vector3r> stepChange;     // workspace: the same for this solve
 	long                  previousChangeIter = -1;
 	void filterStepError(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
