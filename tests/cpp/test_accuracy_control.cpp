@@ -45,6 +45,26 @@ TEST(AccuracyControl, TheAllowedStepMeetsTheCalibratedTolerance)
 	EXPECT_FALSE(AccuracyEstimate().started());
 }
 
+TEST(AccuracyControl, AFreeFallsOffsetSetsTheStepThatKeepsItWithinHalfTheTolerance)
+{
+	// A1b, A4b: a sphere falling at 0.1 m/s with Δt = 1e-5 s carries the offset ½Δt·g; at 1e-3 the
+	// offset may be 0.9 × ½ × 1e-3 of the speed, which ½Δt·g is at Δt = 2 × 4.5e-5 m/s / g
+	const double g = 9.81, dt = 1e-5, o = 0.5 * dt * g;
+	AccuracyEstimate e;
+	e.record(StepMotion { dt, 0.1, 0.0, o, o * o, o * g, g * g });
+	EXPECT_NEAR(e.stepError(), o / 0.1, 1e-15);
+	EXPECT_NEAR(e.allowedStep(dt, 1e-3), 2 * 0.9 * 0.5e-3 * 0.1 / g, 1e-15);
+	EXPECT_NEAR(e.runError(), o / 0.1, 1e-15); // positions only: the kinetic energy is not offset
+	// an offset no step can take back (across the acceleration, the error is made): no limit from it
+	AccuracyEstimate across;
+	across.record(StepMotion { dt, 0.1, 0.0, 1e-3, 1e-6, 0.0, g * g });
+	EXPECT_TRUE(std::isinf(across.allowedStep(dt, 1e-3)));
+	// a body nothing accelerates: its offset stays whatever Δt is
+	AccuracyEstimate coasting;
+	coasting.record(StepMotion { dt, 0.1, 0.0, 1e-3, 1e-6, 0.0, 0.0 });
+	EXPECT_TRUE(std::isinf(coasting.allowedStep(dt, 1e-3)));
+}
+
 TEST(AccuracyControl, TheViscousLimitMakesTheImplicitSchemeCheaper)
 {
 	const double inf = std::numeric_limits<double>::infinity();

@@ -103,7 +103,29 @@ void ViscBridgeImplicitSolver::action()
 	lap(timeApply);
 	bookEnergy(sys, g, x, R);
 	lap(timeEnergy);
-	if (ViscBridgeContext::hasEngine(scene, "ViscBridgeTimeStepper")) filterStepError(sys, g.ids, x, pre);
+	if (ViscBridgeContext::hasEngine(scene, "ViscBridgeTimeStepper")) {
+		filterStepError(sys, g.ids, x, pre);
+		relaxOffsets(sys, g.ids, pre);
+	}
+}
+
+// A1b: the leapfrog's velocity offsets of the bodies this step holds relax through the bridges as
+// a velocity does, (M + Δt D)⁻¹M o: an offset of a cluster moving as one stays, a relative one decays.
+// One application of the factor, as for A1a.
+void ViscBridgeImplicitSolver::relaxOffsets(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const vb::Preconditioner* pre)
+{
+	auto& offset = ViscBridgeContext::of(scene).velocityOffset;
+	if (distributed::active(scene)) return; // [MPI] not over ranks: the offsets stay as they are (larger)
+	Eigen::VectorXd o = Eigen::VectorXd::Zero(static_cast<long>(sys.size())), relaxed;
+	bool            any = false;
+	for (size_t i = 0; i < ids.size(); ++i)
+		if (static_cast<size_t>(ids[i]) < offset.size() && offset[ids[i]].allFinite())
+			o.segment<3>(6 * static_cast<long>(i)) = offset[ids[i]], any = true;
+	if (!any) return;
+	sys.filter(o, relaxed, 1e-3, 100, pre, pre && preconditionerInUse == preconditionerNames[0]);
+	for (size_t i = 0; i < ids.size(); ++i)
+		if (static_cast<size_t>(ids[i]) < offset.size() && offset[ids[i]].allFinite())
+			offset[ids[i]] = relaxed.segment<3>(6 * static_cast<long>(i));
 }
 
 // A1a: the error of this step against its trapezoidal companion is ½Δt_n times the change of the

@@ -66,6 +66,7 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	long                  previousChangeIter = -1;
 	void filterStepError(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
 	                     const viscbridge::Preconditioner* pre);
+	void relaxOffsets(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const viscbridge::Preconditioner* pre);
 
 public:
 	long                     stepErrorStep() const override { return stepErrorIter; }

@@ -231,7 +231,9 @@ void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 	const bool newScheme = lastSwitchIter >= 0 && lastSwitchIter == sc->iter - 1;
 	// with a tolerance, the controller sets the pace of growth (A4)
 	const Real growth = accuracy > 0 ? std::max(maxGrowth, vb::AccuracyEstimate::growth) : maxGrowth;
+	const Real before = sc->dt;
 	sc->dt            = sc->dt > 0 && !newScheme ? std::min(dt, growth * sc->dt) : dt;
+	advanceOffsets(sc, before);
 }
 
 } // namespace yade

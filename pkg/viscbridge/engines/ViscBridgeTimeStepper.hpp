@@ -39,6 +39,13 @@ class ViscBridgeTimeStepper : public TimeStepper {
 	viscbridge::AccuracyEstimate  accuracyEstimate;
 	NetworkTimeStepBound          otherBound;
 	viscbridge::StepMotion        lastStepMotion(Scene*);
+	void                          advanceOffsets(Scene*, Real dtBefore); // A1b, once the step's dt is set
+	static Vector3r               newtonGravity(Scene*);
+	static Vector3r               acceleration(const State&, const Vector3r& force, const Vector3r& gravity);
+	Real                          explicitDamping(size_t id) const;
+	void                          resumeOffsets(Scene*);
+	bool                          restartOffsets = false; // resetErrorEstimate(): the offsets start afresh too
+	std::vector<Real>             resumedOffsets;         // [saved scenes] (id, o) of the offsets, set in the scene at its first step
 	Real                          accuracyStep(Scene*); // records the last step; the step the tolerance allows (inf: none)
 	Real                          otherSchemeLimit(Scene*, bool runningImplicit);
 	Law2_ScGeom_ViscBridgePhys_HertzViscous& lawToSwitch(Scene*);
@@ -73,7 +80,7 @@ public:
 	bool isActivated() override;
 	Real exactLimit();
 	void reset();
-	void resetErrorEstimate() { accuracyEstimate.reset(); errorEstimate = stepError = 0; }
+	void resetErrorEstimate() { accuracyEstimate.reset(); errorEstimate = stepError = 0; restartOffsets = true; }
 	void postLoad(ViscBridgeTimeStepper&);
 	void preSave(ViscBridgeTimeStepper&);
 	void postSave(ViscBridgeTimeStepper&);
@@ -123,7 +130,7 @@ public:
 		((Real,implicitCost,3,Attr::triggerPostLoad|Attr::noSave,"With autoIntegration: the cost of an implicit step in explicit steps, >= 1 (2–4 measured on beds of 300 spheres, 4–14 on 10³–10⁴: docs/performance.md §8b)."))
 		((string,scheme,"",Attr::readonly|Attr::noSave,"The scheme of the viscous forces at the last step: 'explicit' or 'implicit'."))
 		((long,schemeSwitches,0,Attr::readonly|Attr::noSave,"Switches of the scheme made by autoIntegration."))
-		((Real,errorEstimate,0,Attr::readonly|Attr::noSave,"Estimated relative error of the run so far (physics.md A2): the position error of its steps against their second-order companions, Σ Δt|Δv|/2, relative to the distance travelled, Σ Δt|v̄| (RMS over the dynamic bodies, mass-weighted). Computed with or without `accuracy`; resetErrorEstimate() starts it afresh."))
+		((Real,errorEstimate,0,Attr::readonly|Attr::noSave,"Estimated relative error of the run so far (physics.md A2): the position error of its steps against their second-order companions, Σ Δt|δv| (δv of A1: not counting the jump when a bridge arrives), relative to the distance travelled, Σ Δt|v̄| (RMS over the dynamic bodies, mass-weighted). Computed with or without `accuracy`; resetErrorEstimate() starts it afresh."))
 		((Real,stepError,0,Attr::readonly|Attr::noSave,"Estimated relative error of the last step (physics.md A3): |Δv|/2 relative to the larger of the run's mean speed and the current one."))
 		((Real,dtAccuracy,0,Attr::readonly|Attr::noSave,"The step the tolerance `accuracy` allows now (A4) [s]; inf without a tolerance or while nothing changes."))
 		((int,criticalBody,-1,Attr::readonly,"Id of the body with the largest share of the top mode (or of the smallest P14 or Rayleigh bound when that governs), -1 if none."))

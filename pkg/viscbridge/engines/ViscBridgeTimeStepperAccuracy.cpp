@@ -7,6 +7,7 @@
 #include "viscbridge/yade/Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
 #include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/yade/StepErrorSource.hpp"
+#include <pkg/dem/NewtonIntegrator.hpp>
 #include <limits>
 
 namespace yade {
@@ -28,7 +29,10 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 	const auto*           solver   = ViscBridgeContext::findEngine<StepErrorSource>(sc);
 	const bool            filtered = solver && solver->stepErrorStep() == sc->iter - 1 && solver->stepErrorCovers().size() == n;
 	const Real            dt    = sc->dt;
-	Real                  mass = 0, speedSq = 0, errorSq = 0;
+	Real                  mass = 0, speedSq = 0, errorSq = 0, offsetSq = 0, freeSq = 0, freeDot = 0, freeAccSq = 0;
+	resumeOffsets(sc);
+	const auto&           offset  = ViscBridgeContext::of(sc).velocityOffset;
+	const Vector3r        gravity = newtonGravity(sc);
 	static const Vector3r none = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
 	previousForce.resize(n, none);
 	// a bridge that formed this step adds its force at once: a jump of the model, not a change the
@@ -53,14 +57,92 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 			mass += m;
 			speedSq += m * b->state->vel.squaredNorm();
 			errorSq += m * dv * dv;
+			const Vector3r o = id < offset.size() && offset[id].allFinite() ? offset[id] : Vector3r::Zero();
+			offsetSq += m * o.squaredNorm();
+			if (!covered && !(explicitDamping(id) > 0)) { // A4b: the offsets the next Δt changes as it is
+				const Vector3r a = acceleration(*b->state, f, gravity);
+				freeSq += m * o.squaredNorm(), freeDot += m * o.dot(a), freeAccSq += m * a.squaredNorm();
+			}
 		}
 		previousForce[id] = f;
 	}
 	if (filtered) errorSq += solver->stepErrorSquared();
 	forceIter = sc->iter;
-	distributed::sum(sc, { &mass, &speedSq, &errorSq }); // [MPI] the same motion on every rank
+	distributed::sum(sc, { &mass, &speedSq, &errorSq, &offsetSq, &freeSq, &freeDot, &freeAccSq }); // [MPI] the same motion on every rank
 	if (!(mass > 0)) return {};
-	return { dt, std::sqrt(speedSq / mass), std::sqrt(errorSq / mass) };
+	return { dt, std::sqrt(speedSq / mass), std::sqrt(errorSq / mass), std::sqrt(offsetSq / mass), freeSq / mass, freeDot / mass, freeAccSq / mass };
+}
+
+// A loaded scene's offsets, from its saved state (ViscBridgeTimeStepperState.cpp).
+void ViscBridgeTimeStepper::resumeOffsets(Scene* sc)
+{
+	if (resumedOffsets.empty()) return;
+	auto& offset = ViscBridgeContext::of(sc).velocityOffset;
+	offset.assign(sc->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
+	for (size_t k = 0; k + 3 < resumedOffsets.size(); k += 4) {
+		const auto id = static_cast<size_t>(resumedOffsets[k]);
+		if (id < offset.size()) offset[id] = Vector3r(resumedOffsets[k + 1], resumedOffsets[k + 2], resumedOffsets[k + 3]);
+	}
+	std::vector<Real>().swap(resumedOffsets);
+}
+
+// The explicit bridges' damping rate of body `id` (P14's row sum, from the last full update and
+// the bridges formed since; 0 under the implicit scheme).
+Real ViscBridgeTimeStepper::explicitDamping(size_t id) const
+{
+	return (3 * id + 2 < bound.summed.size() ? bound.summed[3 * id + 2] : 0) + (id < addedDamping.size() ? addedDamping[id] : 0);
+}
+
+// The acceleration a leapfrog step gives a body from force f: gravity added as Newton adds it, none
+// along blocked directions.
+Vector3r ViscBridgeTimeStepper::acceleration(const State& st, const Vector3r& f, const Vector3r& gravity)
+{
+	Vector3r a = f / st.mass + gravity;
+	for (int d = 0; d < 3; ++d)
+		if (st.blockedDOFs & State::axisDOF(d, false)) a[d] = 0;
+	return a;
+}
+
+// A1b: YADE's leapfrog gives a body v += Δt_n·a_n and moves it by Δt_n times that velocity; its
+// velocity stands for the middle of the step.  The run's initial velocities stand for its start
+// (half a step early), and when Δt changes from Δt_{n−1} to Δt_n the middles move by ½(Δt_n −
+// Δt_{n−1}) while the velocity does not: each adds ½(Δt_n − Δt_{n−1})·a to an offset every later
+// step moves the body by (a free fall at a constant Δt: ½Δt·g·t, ½g Σ Δt_n² as Δt varies).  The
+// offset is signed: shrinking Δt takes back what growing it gave.  a is the force the stepper sees
+// (after the interaction loop, without the implicit viscous forces: backward Euler's own motion is
+// A1's) plus gravity.  A body the explicit bridges damp (its force holds their lagged viscous one)
+// gains none, and its offset relaxes at their rate d as a velocity would, by 1/(1 + Δt d) per step
+// (the implicit solver relaxes its bodies' offsets with the whole network).  Called once the
+// step's Δt is set.
+void ViscBridgeTimeStepper::advanceOffsets(Scene* sc, Real dtBefore)
+{
+	auto&           offset = ViscBridgeContext::of(sc).velocityOffset;
+	const size_t    n      = sc->bodies->size();
+	static const Vector3r unstarted = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
+	if (restartOffsets) offset.clear(), restartOffsets = false;
+	offset.resize(n, unstarted);
+	const Vector3r gravity = newtonGravity(sc);
+	for (size_t id = 0; id < n; ++id) {
+		const bool counted = id < previousForce.size() && previousForce[id].allFinite() && forceIter == sc->iter;
+		if (!counted) { // not a body the estimate counts this step (a clump, a fixed or a new one)
+			offset[id] = unstarted;
+			continue;
+		}
+		const Real damping = explicitDamping(id);
+		if (damping > 0) {
+			offset[id] = offset[id].allFinite() ? Vector3r(offset[id] / (1 + sc->dt * damping)) : Vector3r::Zero();
+			continue;
+		}
+		const Vector3r a = acceleration(*(*sc->bodies)[id]->state, previousForce[id], gravity);
+		offset[id] = offset[id].allFinite() ? Vector3r(offset[id] + 0.5 * (sc->dt - dtBefore) * a) : Vector3r(0.5 * sc->dt * a);
+	}
+}
+
+Vector3r ViscBridgeTimeStepper::newtonGravity(Scene* sc)
+{
+	for (const auto& e : sc->engines)
+		if (const auto* newton = dynamic_cast<const NewtonIntegrator*>(e.get())) return newton->gravity;
+	return Vector3r::Zero();
 }
 
 Real ViscBridgeTimeStepper::accuracyStep(Scene* sc)

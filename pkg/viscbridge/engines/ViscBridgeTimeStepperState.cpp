@@ -11,6 +11,7 @@
 // gets a fresh full update.
 #include "viscbridge/engines/ViscBridgeTimeStepper.hpp"
 #include "viscbridge/scene/SceneValidation.hpp"
+#include "viscbridge/yade/ViscBridgeContext.hpp"
 #include <boost/functional/hash.hpp>
 #include <core/Omega.hpp>
 #include <algorithm>
@@ -120,6 +121,16 @@ void ViscBridgeTimeStepper::preSave(ViscBridgeTimeStepper&)
 	double sums[viscbridge::AccuracyEstimate::stateSize];
 	accuracyEstimate.save(sums);
 	savedState.insert(savedState.end(), sums, sums + viscbridge::AccuracyEstimate::stateSize);
+	// and the leapfrog's offsets (A1b), (id, o) of the bodies that have one (older scenes end here)
+	// (read where the scene has them: saving must not add a context to the scene it is writing)
+	std::vector<Real> offsets;
+	for (const auto& p : saved ? saved->miscParams : std::vector<shared_ptr<Serializable>>())
+		if (const auto context = YADE_PTR_DYN_CAST<ViscBridgeContext>(p))
+			for (size_t id = 0; id < context->velocityOffset.size(); ++id) {
+				const Vector3r& o = context->velocityOffset[id];
+				if (o.allFinite()) offsets.insert(offsets.end(), { Real(id), o[0], o[1], o[2] });
+			}
+	pack(savedState, offsets);
 }
 
 void ViscBridgeTimeStepper::reset()
@@ -189,6 +200,7 @@ void ViscBridgeTimeStepper::restoreSavedState()
 		for (double& x : sums) x = r.next();
 		accuracyEstimate.restore(sums);
 		rollback.keep(checked());
+		if (r.at < savedState.size()) r.unpack(resumedOffsets);
 	}
 	savedState.clear();
 }

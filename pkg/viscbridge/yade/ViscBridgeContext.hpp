@@ -56,6 +56,11 @@ public:
 	// −work, the sign of a dissipation (physics.md P21).
 	OpenMPAccumulator<Real> conservativeWork;
 
+	// [accuracy] Per body id, the velocity offset of the leapfrog's position update (physics.md A1b):
+	// ViscBridgeTimeStepper adds ½(Δt_new − Δt_old)·a when it changes Δt (NaN: not started), the
+	// implicit solver lets the bridges relax it as they relax any velocity.
+	std::vector<Vector3r> velocityOffset;
+
 	// Events.  beginStep() must run once per step before the first publish() (the law does it under
 	// its per-step critical section); publish() is then safe from any thread.
 	void beginStep(long iter);

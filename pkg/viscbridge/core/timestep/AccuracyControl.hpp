@@ -13,6 +13,10 @@ struct StepMotion {
 	double dt            = 0; // the step taken [s]
 	double speed         = 0; // of the velocity it moved the bodies with [m/s]
 	double velocityError = 0; // of each body's velocity error, A1; its position error is dt × this [m/s]
+	double offset        = 0; // of each body's velocity offset, A1b: a position error of dt × this, not a velocity error [m/s]
+	// A4b: the offsets o the next step's Δt can change, of the bodies nothing damps: Δt_{n+1} = Δt_n + δ
+	// makes them o + ½δa; the means of m|o|², m o·a and m|a|² over the bodies' total mass
+	double freeOffsetSq = 0, freeOffsetDotAcceleration = 0, freeAccelerationSq = 0;
 };
 
 // A2–A3: the two measures of bench/accuracy_cost.py — positions against the distance travelled, and
@@ -21,20 +25,27 @@ class AccuracyEstimate {
 	double positionError = 0, path = 0;   // Σ Δt δv, Σ Δt |v|
 	double energyError = 0, energy = 0;   // Σ Δt 2|v|δv, Σ Δt |v|²  (kinetic energy per unit mass, ×2)
 	double time = 0, local = 0;
+	// not saved (the next step has them): the offset's part of local (A3), the velocity error's, the
+	// speed the step is measured against, and the free offsets' quadratic in δ (A4b)
+	double drift = 0, localVelocity = 0, speedScale = 0, offsetSq = 0, offsetDotAcceleration = 0, accelerationSq = 0;
 
 public:
 	void record(const StepMotion& m)
 	{
-		if (!(m.dt > 0) || !std::isfinite(m.speed) || !std::isfinite(m.velocityError)) return;
-		positionError += m.dt * m.velocityError;
+		if (!(m.dt > 0) || !std::isfinite(m.speed) || !std::isfinite(m.velocityError) || !std::isfinite(m.offset)) return;
+		positionError += m.dt * std::hypot(m.velocityError, m.offset);
 		path += m.dt * m.speed;
 		energyError += m.dt * 2 * m.speed * m.velocityError;
 		energy += m.dt * m.speed * m.speed;
 		time += m.dt;
 		// per step, relative to the run's mean so far, or to now if higher, so that a bed coming to
 		// rest is not held to its own vanishing motion
-		const double speedScale = std::max(path / time, m.speed), energyScale = std::max(energy / time, m.speed * m.speed);
-		local = std::max(speedScale > 0 ? m.velocityError / speedScale : 0, energyScale > 0 ? 2 * m.speed * m.velocityError / energyScale : 0);
+		speedScale = std::max(path / time, m.speed);
+		const double energyScale = std::max(energy / time, m.speed * m.speed);
+		localVelocity = std::max(speedScale > 0 ? m.velocityError / speedScale : 0, energyScale > 0 ? 2 * m.speed * m.velocityError / energyScale : 0);
+		drift         = speedScale > 0 ? m.offset / speedScale : 0;
+		local         = std::max(localVelocity, drift);
+		offsetSq = m.freeOffsetSq, offsetDotAcceleration = m.freeOffsetDotAcceleration, accelerationSq = m.freeAccelerationSq;
 	}
 	double stepError() const { return local; }
 	bool   started() const { return time > 0; }
@@ -51,7 +62,7 @@ public:
 	}
 	void restore(const double in[stateSize])
 	{
-		positionError = in[0], path = in[1], energyError = in[2], energy = in[3], time = in[4], local = in[5];
+		positionError = in[0], path = in[1], energyError = in[2], energy = in[3], time = in[4], local = localVelocity = in[5];
 	}
 
 	// A4: the step at which the last one's error would meet `tolerance`.  The error per unit step
@@ -60,8 +71,21 @@ public:
 	// not collapse the run); infinite while nothing changes.
 	double allowedStep(double lastDt, double tolerance) const
 	{
-		if (!(local > 0)) return std::numeric_limits<double>::infinity();
-		return lastDt * std::max(0.2, controllerMargin * std::sqrt(calibration * tolerance / local));
+		const double forOffset = offsetStep(lastDt, tolerance);
+		if (!(localVelocity > 0)) return forOffset;
+		return std::min(forOffset, lastDt * std::max(0.2, controllerMargin * std::sqrt(calibration * tolerance / localVelocity)));
+	}
+	// A4b: the largest Δt_{n+1} = Δt_n + δ that keeps the free offsets, o + ½δa, within half the
+	// tolerance of the speed (their estimate is exact: no calibration; the other half is the rest's).
+	// None if no δ can (what is offset is offset: the error is made, a smaller step does not undo it).
+	double offsetStep(double lastDt, double tolerance) const
+	{
+		const double inf = std::numeric_limits<double>::infinity();
+		const double target = controllerMargin * 0.5 * tolerance * speedScale;
+		const double A = 0.25 * accelerationSq, B = offsetDotAcceleration, C = offsetSq - target * target;
+		const double disc = B * B - 4 * A * C;
+		if (!(A > 0) || !(disc >= 0)) return inf;
+		return lastDt + std::max(-0.8 * lastDt, (std::sqrt(disc) - B) / (2 * A));
 	}
 	static constexpr double controllerMargin = 0.9;
 	// A4a: the estimate aims at this fraction of the tolerance: calibrated on bench/accuracy_target.py,
