@@ -44,8 +44,9 @@ class ViscBridgeTimeStepper : public TimeStepper {
 	static Vector3r               acceleration(const State&, const Vector3r& force, const Vector3r& gravity);
 	Real                          explicitDamping(size_t id) const;
 	void                          resumeOffsets(Scene*);
+	void                          resumeForces();
 	bool                          restartOffsets = false; // resetErrorEstimate(): the offsets start afresh too
-	std::vector<Real>             resumedOffsets;         // [saved scenes] (id, o) of the offsets, set in the scene at its first step
+	std::vector<Real>             resumedOffsets;         // [saved scenes] (id, F, o) of the bodies, the offsets set in the scene at its first step
 	Real                          accuracyStep(Scene*); // records the last step; the step the tolerance allows (inf: none)
 	Real                          otherSchemeLimit(Scene*, bool runningImplicit);
 	Law2_ScGeom_ViscBridgePhys_HertzViscous& lawToSwitch(Scene*);

@@ -79,9 +79,9 @@ void ViscBridgeTimeStepper::resumeOffsets(Scene* sc)
 	if (resumedOffsets.empty()) return;
 	auto& offset = ViscBridgeContext::of(sc).velocityOffset;
 	offset.assign(sc->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
-	for (size_t k = 0; k + 3 < resumedOffsets.size(); k += 4) {
+	for (size_t k = 0; k + 6 < resumedOffsets.size(); k += 7) {
 		const auto id = static_cast<size_t>(resumedOffsets[k]);
-		if (id < offset.size()) offset[id] = Vector3r(resumedOffsets[k + 1], resumedOffsets[k + 2], resumedOffsets[k + 3]);
+		if (id < offset.size()) offset[id] = Vector3r(resumedOffsets[k + 4], resumedOffsets[k + 5], resumedOffsets[k + 6]);
 	}
 	std::vector<Real>().swap(resumedOffsets);
 }

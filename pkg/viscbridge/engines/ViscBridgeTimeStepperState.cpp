@@ -15,6 +15,7 @@
 #include <boost/functional/hash.hpp>
 #include <core/Omega.hpp>
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 namespace yade {
@@ -121,16 +122,20 @@ void ViscBridgeTimeStepper::preSave(ViscBridgeTimeStepper&)
 	double sums[viscbridge::AccuracyEstimate::stateSize];
 	accuracyEstimate.save(sums);
 	savedState.insert(savedState.end(), sums, sums + viscbridge::AccuracyEstimate::stateSize);
-	// and the leapfrog's offsets (A1b), (id, o) of the bodies that have one (older scenes end here)
-	// (read where the scene has them: saving must not add a context to the scene it is writing)
-	std::vector<Real> offsets;
+	// and what the next step's estimate starts from: the forces of the last step (A1) and the
+	// leapfrog's offsets (A1b), (id, F, o) of the bodies that have both (older scenes end here; read
+	// where the scene has them: saving must not add a context to the scene it is writing)
+	const ViscBridgeContext* context = nullptr;
 	for (const auto& p : saved ? saved->miscParams : std::vector<shared_ptr<Serializable>>())
-		if (const auto context = YADE_PTR_DYN_CAST<ViscBridgeContext>(p))
-			for (size_t id = 0; id < context->velocityOffset.size(); ++id) {
-				const Vector3r& o = context->velocityOffset[id];
-				if (o.allFinite()) offsets.insert(offsets.end(), { Real(id), o[0], o[1], o[2] });
-			}
-	pack(savedState, offsets);
+		if (const auto* c = dynamic_cast<const ViscBridgeContext*>(p.get())) context = c;
+	std::vector<Real> motion;
+	const size_t      counted = context ? std::min(context->velocityOffset.size(), previousForce.size()) : 0;
+	for (size_t id = 0; id < counted; ++id) {
+		const Vector3r &f = previousForce[id], &o = context->velocityOffset[id];
+		if (f.allFinite() && o.allFinite()) motion.insert(motion.end(), { Real(id), f[0], f[1], f[2], o[0], o[1], o[2] });
+	}
+	savedState.push_back(Real(forceIter));
+	pack(savedState, motion);
 }
 
 void ViscBridgeTimeStepper::reset()
@@ -161,6 +166,18 @@ bool ViscBridgeTimeStepper::resumesSavedState(Scene* sc)
 }
 
 void ViscBridgeTimeStepper::postSave(ViscBridgeTimeStepper&) { savedState.clear(); }
+
+// The last step's forces as they were saved (the offsets wait for the scene: resumeOffsets).
+void ViscBridgeTimeStepper::resumeForces()
+{
+	const auto none = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
+	previousForce.clear();
+	for (size_t k = 0; k + 6 < resumedOffsets.size(); k += 7) {
+		const auto id = static_cast<size_t>(resumedOffsets[k]);
+		previousForce.resize(std::max(previousForce.size(), id + 1), none);
+		previousForce[id] = Vector3r(resumedOffsets[k + 1], resumedOffsets[k + 2], resumedOffsets[k + 3]);
+	}
+}
 
 void ViscBridgeTimeStepper::restoreSavedState()
 {
@@ -200,7 +217,11 @@ void ViscBridgeTimeStepper::restoreSavedState()
 		for (double& x : sums) x = r.next();
 		accuracyEstimate.restore(sums);
 		rollback.keep(checked());
-		if (r.at < savedState.size()) r.unpack(resumedOffsets);
+		if (r.at < savedState.size()) {
+			forceIter = static_cast<long>(r.next());
+			r.unpack(resumedOffsets);
+			resumeForces();
+		}
 	}
 	savedState.clear();
 }
