@@ -125,7 +125,7 @@ void ViscBridgeImplicitSolver::relaxOffsets(const vb::ImplicitViscousSystem& sys
 	sys.filter(o, relaxed, 1e-3, 100, pre, pre && preconditionerInUse == preconditionerNames[0]);
 	for (size_t i = 0; i < ids.size(); ++i)
 		if (static_cast<size_t>(ids[i]) < offset.size() && offset[ids[i]].allFinite())
-			offset[ids[i]] = relaxed.segment<3>(6 * static_cast<long>(i));
+			offset[ids[i]] = ViscBridgeContext::relaxedOffset(relaxed.segment<3>(6 * static_cast<long>(i)));
 }
 
 // A1a: the error of this step against its trapezoidal companion is ½Δt_n times the change of the

@@ -130,7 +130,7 @@ void ViscBridgeTimeStepper::advanceOffsets(Scene* sc, Real dtBefore)
 		}
 		const Real damping = explicitDamping(id);
 		if (damping > 0) {
-			offset[id] = offset[id].allFinite() ? Vector3r(offset[id] / (1 + sc->dt * damping)) : Vector3r::Zero();
+			offset[id] = offset[id].allFinite() ? ViscBridgeContext::relaxedOffset(offset[id] / (1 + sc->dt * damping)) : Vector3r::Zero();
 			continue;
 		}
 		const Vector3r a = acceleration(*(*sc->bodies)[id]->state, previousForce[id], gravity);
