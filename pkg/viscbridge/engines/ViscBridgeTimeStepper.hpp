@@ -132,7 +132,7 @@ public:
 		((string,scheme,"",Attr::readonly|Attr::noSave,"The scheme of the viscous forces at the last step: 'explicit' or 'implicit'."))
 		((long,schemeSwitches,0,Attr::readonly|Attr::noSave,"Switches of the scheme made by autoIntegration."))
 		((Real,errorEstimate,0,Attr::readonly|Attr::noSave,"Estimated relative error of the run so far (physics.md A2): the position error of its steps against their second-order companions, Σ Δt|δv| (δv of A1: not counting the jump when a bridge arrives), with the leapfrog's velocity offset o in quadrature (A1b: YADE's velocity stands for the middle of a step; a change of Δt moves it), Σ Δt|(δv, o)|, relative to the distance travelled, Σ Δt|v̄| (RMS over the dynamic bodies, mass-weighted). Computed with or without `accuracy`; resetErrorEstimate() starts it afresh."))
-		((Real,stepError,0,Attr::readonly|Attr::noSave,"Estimated relative error of the last step (physics.md A3): |Δv|/2 relative to the larger of the run's mean speed and the current one."))
+		((Real,stepError,0,Attr::readonly|Attr::noSave,"Estimated relative error of the last step (physics.md A3): its velocity error δv and the leapfrog's offset o (A1b), relative to the larger of the run's mean speed and the current one."))
 		((Real,dtAccuracy,0,Attr::readonly|Attr::noSave,"The step the tolerance `accuracy` allows now (A4) [s]; inf without a tolerance or while nothing changes."))
 		((int,criticalBody,-1,Attr::readonly,"Id of the body with the largest share of the top mode (or of the smallest P14 or Rayleigh bound when that governs), -1 if none."))
 		((vector<int>,criticalBodies,,Attr::readonly,"Ids of the bodies carrying 90 % of the top mode, largest share first (at most 10; under yade.mpy, of this rank's part of the network)."))
