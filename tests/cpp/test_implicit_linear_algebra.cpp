@@ -346,3 +346,25 @@ TEST(ImplicitLinearAlgebra, StepErrorFilterIsTheDampedInverse)
 		EXPECT_LT(y.dot(sys.inertialLoad(y)), 0.99 * u.dot(sys.inertialLoad(u))) << factor; // the bridges damp it
 	}
 }
+
+// Several perturbations filtered at once (the step error and the offsets, physics.md A1a/A1b) are
+// each filtered as alone: one application of the factor for all columns, or CG column by column.
+TEST(ImplicitLinearAlgebra, FilteringColumnsAtOnceIsFilteringEach)
+{
+	std::mt19937                g(23);
+	const ImplicitViscousSystem sys = randomSystem(g, 30, 0.05);
+	LaggedCholesky              pre;
+	ASSERT_TRUE(pre.refresh(sys, false));
+	MatXd U = MatXd::Random(sys.size(), 3);
+	for (const bool factor : { true, false }) {
+		MatXd Y;
+		sys.filterColumns(U, Y, 1e-12, 500, factor ? &pre : nullptr, factor);
+		ASSERT_EQ(Y.cols(), 3);
+		for (long c = 0; c < U.cols(); ++c) {
+			VecXd y;
+			sys.filter(U.col(c), y, 1e-12, 500, factor ? &pre : nullptr, factor);
+			EXPECT_LT((Y.col(c) - y).norm(), 1e-9 * y.norm()) << factor << " column " << c;
+			EXPECT_GT(y.norm(), 0);
+		}
+	}
+}

@@ -103,26 +103,62 @@ void ViscBridgeImplicitSolver::action()
 	lap(timeApply);
 	bookEnergy(sys, g, x, R);
 	lap(timeEnergy);
-	if (ViscBridgeContext::hasEngine(scene, "ViscBridgeTimeStepper")) {
-		filterStepError(sys, g.ids, x, pre);
-		relaxOffsets(sys, g.ids, pre);
-	}
+	if (ViscBridgeContext::hasEngine(scene, "ViscBridgeTimeStepper")) estimateStepError(sys, g.ids, x, pre);
 }
 
-// A1b: the leapfrog's velocity offsets of the bodies this step holds relax through the bridges as
-// a velocity does, (M + Δt D)⁻¹M o: an offset of a cluster moving as one stays, a relative one decays.
-// One application of the factor, as for A1a.
-void ViscBridgeImplicitSolver::relaxOffsets(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const vb::Preconditioner* pre)
+// What the time stepper's estimate needs of this step (physics.md A1a, A1b): the step's error
+// filtered twice by its system, and the leapfrog's offsets relaxed once by it.  Each filter is one
+// application of the lagged Cholesky factor (or a CG solve with another preconditioner); the
+// error's first filter and the offsets' relaxation share one (a sweep over a large factor is
+// memory-bound: two columns cost little more than one).
+void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+                                                 const vb::Preconditioner* pre)
 {
-	auto& offset = ViscBridgeContext::of(scene).velocityOffset;
-	if (distributed::active(scene)) return; // [MPI] not over ranks: the offsets stay as they are (larger)
-	Eigen::VectorXd o = Eigen::VectorXd::Zero(static_cast<long>(sys.size())), relaxed;
-	bool            any = false;
+	Eigen::VectorXd u, o;
+	const bool      compare = stepErrorChange(sys, ids, x, u);
+	const bool      relax   = offsetsOf(ids, sys.size(), o);
+	stepErrorCovered.assign(scene->bodies->size(), 0);
+	stepErrorSq   = 0;
+	stepErrorIter = -1;
+	if (!compare && !relax) return;
+	const bool      factor = pre && preconditionerInUse == preconditionerNames[0];
+	Eigen::MatrixXd in(sys.size(), int(compare) + int(relax)), out;
+	if (compare) in.col(0) = u;
+	if (relax) in.col(in.cols() - 1) = o;
+	sys.filterColumns(in, out, 1e-3, 100, pre, factor);
+	if (relax) storeOffsets(ids, out.col(out.cols() - 1));
+	if (!compare) return;
+	u.setZero();
+	for (size_t i = 0; i < ids.size(); ++i) // the second filter takes the translations only, as the first
+		u.segment<3>(6 * static_cast<long>(i)) = out.col(0).segment<3>(6 * static_cast<long>(i));
+	Eigen::VectorXd filtered;
+	sys.filter(u, filtered, 1e-3, 100, pre, factor);
+	for (size_t i = 0; i < ids.size(); ++i) {
+		stepErrorSq += sys.bodies()[i].mass * filtered.segment<3>(6 * static_cast<long>(i)).squaredNorm();
+		stepErrorCovered[ids[i]] = 1;
+	}
+	stepErrorIter = scene->iter;
+}
+
+// A1b: the offsets of the bodies this step holds, in the system's layout (translations); false if
+// none has one.  [MPI] not over ranks: there the offsets stay as they are (larger).
+bool ViscBridgeImplicitSolver::offsetsOf(const std::vector<Body::id_t>& ids, size_t size, Eigen::VectorXd& o)
+{
+	const auto& offset = ViscBridgeContext::of(scene).velocityOffset;
+	o.setZero(static_cast<long>(size));
+	if (distributed::active(scene)) return false;
+	bool any = false;
 	for (size_t i = 0; i < ids.size(); ++i)
 		if (static_cast<size_t>(ids[i]) < offset.size() && offset[ids[i]].allFinite())
 			o.segment<3>(6 * static_cast<long>(i)) = offset[ids[i]], any = true;
-	if (!any) return;
-	sys.filter(o, relaxed, 1e-3, 100, pre, pre && preconditionerInUse == preconditionerNames[0]);
+	return any;
+}
+
+// A1b: the offsets relax through the bridges as a velocity does, (M + Δt D)⁻¹M o: an offset of a
+// cluster moving as one stays, a relative one decays.
+void ViscBridgeImplicitSolver::storeOffsets(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed)
+{
+	auto& offset = ViscBridgeContext::of(scene).velocityOffset;
 	for (size_t i = 0; i < ids.size(); ++i)
 		if (static_cast<size_t>(ids[i]) < offset.size() && offset[ids[i]].allFinite())
 			offset[ids[i]] = ViscBridgeContext::relaxedOffset(relaxed.segment<3>(6 * static_cast<long>(i)));
@@ -138,8 +174,8 @@ void ViscBridgeImplicitSolver::relaxOffsets(const vb::ImplicitViscousSystem& sys
 // motions do.  With the Cholesky factor, which the refresh rule keeps within a few CG iterations of
 // exact, each filter is one application of it (an estimate needs no more: bench/accuracy_target.py
 // keeps its calibration); otherwise CG with this step's preconditioner to a loose tolerance.
-void ViscBridgeImplicitSolver::filterStepError(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
-                                               const vb::Preconditioner* pre)
+bool ViscBridgeImplicitSolver::stepErrorChange(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+                                               Eigen::VectorXd& u)
 {
 	const size_t          n     = scene->bodies->size();
 	static const Vector3r none   = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()); // not solved in that step
@@ -147,7 +183,7 @@ void ViscBridgeImplicitSolver::filterStepError(const vb::ImplicitViscousSystem& 
 	const bool            valid  = previousChange.size() == n && previousChangeIter == scene->iter - 1 && !distributed::active(scene);
 	const Real            dt    = scene->dt;
 	stepChange.assign(n, none);
-	Eigen::VectorXd u = Eigen::VectorXd::Zero(static_cast<long>(sys.size()));
+	u.setZero(static_cast<long>(sys.size()));
 	for (size_t i = 0; i < ids.size(); ++i) {
 		stepChange[ids[i]]  = (x.segment<3>(6 * static_cast<long>(i)) - sys.bodies()[i].vel) / dt;
 		const Vector3r& was = valid ? previousChange[ids[i]] : none;
@@ -164,22 +200,7 @@ void ViscBridgeImplicitSolver::filterStepError(const vb::ImplicitViscousSystem& 
 				if (static_cast<size_t>(id) < n) stepChange[id] = jumped;
 	previousChange.swap(stepChange);
 	previousChangeIter = scene->iter;
-	stepErrorCovered.assign(n, 0);
-	stepErrorSq   = 0;
-	stepErrorIter = -1;
-	if (!valid) return;
-	const bool      factor = pre && preconditionerInUse == preconditionerNames[0];
-	Eigen::VectorXd filtered;
-	for (int pass = 0; pass < 2; ++pass) {
-		sys.filter(u, filtered, 1e-3, 100, pre, factor);
-		for (size_t i = 0; i < ids.size(); ++i) // the next pass filters the translations only, as the first
-			u.segment<3>(6 * static_cast<long>(i)) = filtered.segment<3>(6 * static_cast<long>(i));
-	}
-	for (size_t i = 0; i < ids.size(); ++i) {
-		stepErrorSq += sys.bodies()[i].mass * u.segment<3>(6 * static_cast<long>(i)).squaredNorm();
-		stepErrorCovered[ids[i]] = 1;
-	}
-	stepErrorIter = scene->iter;
+	return valid;
 }
 
 const NewtonIntegrator& ViscBridgeImplicitSolver::checkScene()

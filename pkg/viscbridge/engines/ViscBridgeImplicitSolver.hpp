@@ -64,9 +64,12 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	std::vector<Vector3r> previousChange; // per body id: (v_{n+1/2} − v_{n−1/2})/Δt of the last solve (NaN: not solved; ∞: a jump of the model)
 	std::vector<Vector3r> stepChange;     // workspace: the same for this solve
 	long                  previousChangeIter = -1;
-	void filterStepError(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
-	                     const viscbridge::Preconditioner* pre);
-	void relaxOffsets(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const viscbridge::Preconditioner* pre);
+	void estimateStepError(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+	                       const viscbridge::Preconditioner* pre);
+	bool stepErrorChange(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+	                     Eigen::VectorXd& u); // false: nothing to compare with
+	bool offsetsOf(const std::vector<Body::id_t>& ids, size_t size, Eigen::VectorXd& o);
+	void storeOffsets(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed);
 
 public:
 	long                     stepErrorStep() const override { return stepErrorIter; }

@@ -9,6 +9,7 @@ namespace viscbridge {
 
 using Mat6  = Eigen::Matrix<double, 6, 6>;
 using VecXd = Eigen::VectorXd;
+using MatXd = Eigen::MatrixXd;
 
 // The diagonal blocks and, for each pair (i, j) with i < j, the block in row i and column j (the one
 // in row j and column i is its transpose).

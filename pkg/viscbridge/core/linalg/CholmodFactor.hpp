@@ -10,7 +10,7 @@
 //
 //   analyse(n, pairs)  the order and the structure of L, for n block rows coupled by `pairs` (i < j)
 //   factorise(A)       the numbers, for a matrix of the analysed pattern
-//   solve(b, x)        x = A⁻¹ b
+//   solve(b, x)        x = A⁻¹ b (b a vector, or a matrix of several right-hand sides)
 //
 // Every coupling is stored as a full 6×6 block (zeros included), so that the scalar pattern, and
 // with it the analysis, depends on the block pattern only.
@@ -63,6 +63,12 @@ public:
 	{
 		if (size() == 0) x.resize(0);
 		else x = llt_.solve(b);
+	}
+	// X = A⁻¹ B, one sweep over the factor for all of B's columns (CHOLMOD solves a dense block).
+	void solve(const MatXd& B, MatXd& X) const
+	{
+		if (size() == 0) X.resize(0, B.cols());
+		else X = llt_.solve(B);
 	}
 
 	bool factorised() const { return factorised_; }

@@ -70,6 +70,17 @@ class Preconditioner {
 public:
 	virtual ~Preconditioner()                                  = default;
 	virtual void apply(const VecXd& r, VecXd& z) const = 0;
+	// Z ≈ A⁻¹ R for several right-hand sides, column by column; a factor overrides it with one sweep
+	// for all columns (on a large bed its sweeps are memory-bound: one pass over it serves them all).
+	virtual void applyColumns(const MatXd& R, MatXd& Z) const
+	{
+		Z.resize(R.rows(), R.cols());
+		VecXd z;
+		for (long c = 0; c < R.cols(); ++c) {
+			apply(R.col(c), z);
+			Z.col(c) = z;
+		}
+	}
 };
 
 // Sums over the processes that share a system (MPI), and keeps the ghost rows of a search
@@ -327,6 +338,27 @@ public:
 	// pre is a Cholesky factor of this matrix or of a recent one (lagged), and its one application
 	// stands for the solve, as an estimate allows; else CG to `tolerance` from y's value, stopping
 	// at maxIterations with whatever it reached (an estimate needs no fallback).
+	// The same for the columns of U at once, each as filter() would; with a factor, one application
+	// for all of them.
+	void filterColumns(const MatXd& U, MatXd& Y, double tolerance, int maxIterations, const Preconditioner* pre, bool factor) const
+	{
+		if (factor && pre) {
+			const VecXd mask = freeMask();
+			MatXd       B(U.rows(), U.cols());
+			for (long c = 0; c < U.cols(); ++c)
+				B.col(c) = inertialLoad(U.col(c)).cwiseProduct(mask);
+			pre->applyColumns(B, Y);
+			Y.array().colwise() *= mask.array();
+			return;
+		}
+		Y.resize(U.rows(), U.cols());
+		VecXd y;
+		for (long c = 0; c < U.cols(); ++c) {
+			filter(U.col(c), y, tolerance, maxIterations, pre, factor);
+			Y.col(c) = y;
+		}
+	}
+
 	void filter(const VecXd& u, VecXd& y, double tolerance, int maxIterations, const Preconditioner* pre, bool factor) const
 	{
 		const VecXd mask = freeMask();

@@ -45,6 +45,17 @@ public:
 			z.segment<6>(6 * bodyOfRow_[i]) = solution_.segment<6>(6 * i);
 	}
 
+	void applyColumns(const MatXd& R, MatXd& Z) const override
+	{
+		Z.setZero(R.rows(), R.cols());
+		MatXd rows(6 * bodyOfRow_.size(), R.cols()), solution;
+		for (size_t i = 0; i < bodyOfRow_.size(); ++i)
+			rows.middleRows<6>(6 * i) = R.middleRows<6>(6 * bodyOfRow_[i]);
+		solveRowsColumns(rows, solution);
+		for (size_t i = 0; i < bodyOfRow_.size(); ++i)
+			Z.middleRows<6>(6 * bodyOfRow_[i]) = solution.middleRows<6>(6 * i);
+	}
+
 protected:
 	// The system's block matrix, and which body each block row is.
 	BlockMatrix6 blockRows(const ImplicitViscousSystem& system, std::vector<Vec3>* pairBranch = nullptr)
@@ -63,6 +74,15 @@ protected:
 	virtual double refreshWork() const                              = 0;
 	virtual double applicationWork() const                          = 0;
 	virtual void   solveRows(const VecXd& b, VecXd& x) const = 0; // x ≈ A⁻¹ b on the block rows
+	virtual void   solveRowsColumns(const MatXd& B, MatXd& X) const // the same for each column
+	{
+		X.resize(B.rows(), B.cols());
+		VecXd x;
+		for (long c = 0; c < B.cols(); ++c) {
+			solveRows(B.col(c), x);
+			X.col(c) = x;
+		}
+	}
 
 	std::vector<int> bodyOfRow_, prescribedBodies_; // the system's body of each block row; bodies without a free component
 	size_t           size_  = 0;
@@ -87,6 +107,7 @@ private:
 	double refreshWork() const override { return factor_.factorisationWork(); }
 	double applicationWork() const override { return factor_.solveWork(); }
 	void   solveRows(const VecXd& b, VecXd& x) const override { factor_.solve(b, x); }
+	void   solveRowsColumns(const MatXd& B, MatXd& X) const override { factor_.solve(B, X); }
 
 	CholmodFactor factor_;
 };
