@@ -3,7 +3,9 @@
 # Adams–Perchard + slip), integration='implicit' at Δt = 5e-6 s, disturbed by random velocities of
 # up to 1 cm/s so that the solver has work at every step.
 #
-#   ./yadew run bench/implicit_threads.py       (~5 min; one yade process per run)
+#   ./yadew run bench/implicit_threads.py [SIDE LAYERS [ROUNDS]]   (default 41 6 3: ~5 min; one yade
+#                                                                   process per run; 46 46 2: 97 336
+#                                                                   spheres, ~15 min, 13 GB)
 #
 # Each process runs 20 steps (the first factorisation and analysis) and then measures STEPS steps;
 # the solver's engine time per step (YADE's timers) and its own split are compared, fastest of
@@ -18,7 +20,11 @@ HERE = os.path.dirname(os.path.abspath(sys.argv[0]))  # yade -x: __file__ is yad
 sys.path.insert(0, HERE)
 import common  # noqa: E402
 
-R, SIDE, LAYERS, STEPS, ROUNDS = 0.5e-3, 41, 6, 40, 3
+R, STEPS = 0.5e-3, 40
+_sizes = [int(a) for a in sys.argv[1:] if a.isdigit()]
+SIDE, LAYERS, ROUNDS = (_sizes + [41, 6, 3][len(_sizes):])[:3]
+if sys.argv[1:2] == ['--worker']:
+    SIDE, LAYERS = int(sys.argv[3]), int(sys.argv[4])
 
 
 def bed():
@@ -54,7 +60,7 @@ else:
         for threads in (1, 2):
             with tempfile.TemporaryDirectory() as tmp:
                 out = os.path.join(tmp, 'r.json')
-                subprocess.run(['yade', '-n', '-j%d' % threads, '-x', os.path.join(HERE, 'implicit_threads.py'), '--worker', out],
+                subprocess.run(['yade', '-n', '-j%d' % threads, '-x', os.path.join(HERE, 'implicit_threads.py'), '--worker', out, str(SIDE), str(LAYERS)],
                                check=True, capture_output=True)
                 r = json.load(open(out))
             print('%d thread(s): solver %.2f ms/step (%.2f CG iterations/step, %d factorisations)' % (
@@ -69,4 +75,5 @@ else:
     for r in rows:
         print('%d thread(s): solver %.2f (%s); speed-up %.2f' % (
             r['threads'], 1e3 * r['solver_seconds_per_step'], ', '.join('%s %.2f' % (k[4:], 1e3 * r[k]) for k in common.SOLVER_TIMES), r['speedup']))
-    print('written', common.write_rows(os.path.join(common.RESULTS, 'implicit_threads.csv'), rows))
+    name = 'implicit_threads.csv' if (SIDE, LAYERS) == (41, 6) else 'implicit_threads_%dx%dx%d.csv' % (SIDE, SIDE, LAYERS)
+    print('written', common.write_rows(os.path.join(common.RESULTS, name), rows))
