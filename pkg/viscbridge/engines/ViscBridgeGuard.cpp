@@ -11,7 +11,6 @@
 #include <core/InteractionLoop.hpp>
 #include <core/Scene.hpp>
 #include <pkg/common/ElastMat.hpp>
-#include <pkg/dem/NewtonIntegrator.hpp>
 #include <pkg/dem/ScGeom.hpp>
 #include <cmath>
 #include <limits>
@@ -101,12 +100,7 @@ Real ViscBridgeGuard::capillaryWorkSoFar() const
 	return ViscBridgeContext::of(scene).conservativeWork.get();
 }
 
-Vector3r ViscBridgeGuard::gravity() const
-{
-	for (const auto& e : scene->engines)
-		if (const auto* n = dynamic_cast<const NewtonIntegrator*>(e.get())) return n->gravity;
-	return Vector3r::Zero();
-}
+Vector3r ViscBridgeGuard::gravity() const { return ViscBridgeContext::newtonGravity(scene); }
 
 Real ViscBridgeGuard::mechanicalEnergyNow() const
 {

@@ -40,13 +40,14 @@ class ViscBridgeTimeStepper : public TimeStepper {
 	NetworkTimeStepBound          otherBound;
 	viscbridge::StepMotion        lastStepMotion(Scene*);
 	void                          advanceOffsets(Scene*, Real dtBefore); // A1b, once the step's dt is set
-	static Vector3r               newtonGravity(Scene*);
 	static Vector3r               acceleration(const State&, const Vector3r& force, const Vector3r& gravity);
 	Real                          explicitDamping(size_t id) const;
 	void                          resumeOffsets(Scene*);
 	void                          resumeForces();
 	bool                          restartOffsets = false; // resetErrorEstimate(): the offsets start afresh too
-	std::vector<Real>             resumedOffsets;         // [saved scenes] (id, F, o) of the bodies, the offsets set in the scene at its first step
+	std::vector<Real>             resumedMotion; // [saved scenes] (id, F, o) per body: forces restored at loading, offsets set in the scene at its first step
+	static constexpr size_t       savedMotionStride = 7;
+	Vector3r                      resumedVector(size_t k, size_t at) const { return Vector3r(resumedMotion[k + at], resumedMotion[k + at + 1], resumedMotion[k + at + 2]); }
 	Real                          accuracyStep(Scene*); // records the last step; the step the tolerance allows (inf: none)
 	Real                          otherSchemeLimit(Scene*, bool runningImplicit);
 	Law2_ScGeom_ViscBridgePhys_HertzViscous& lawToSwitch(Scene*);

@@ -7,7 +7,6 @@
 #include "viscbridge/yade/Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
 #include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/yade/StepErrorSource.hpp"
-#include <pkg/dem/NewtonIntegrator.hpp>
 #include <limits>
 
 namespace yade {
@@ -32,7 +31,7 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 	Real                  mass = 0, speedSq = 0, errorSq = 0, offsetSq = 0, freeSq = 0, freeDot = 0, freeAccSq = 0;
 	resumeOffsets(sc);
 	const auto&           offset  = ViscBridgeContext::of(sc).velocityOffset;
-	const Vector3r        gravity = newtonGravity(sc);
+	const Vector3r        gravity = ViscBridgeContext::newtonGravity(sc);
 	static const Vector3r none = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
 	previousForce.resize(n, none);
 	// a bridge that formed this step adds its force at once: a jump of the model, not a change the
@@ -76,14 +75,14 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 // A loaded scene's offsets, from its saved state (ViscBridgeTimeStepperState.cpp).
 void ViscBridgeTimeStepper::resumeOffsets(Scene* sc)
 {
-	if (resumedOffsets.empty()) return;
+	if (resumedMotion.empty()) return;
 	auto& offset = ViscBridgeContext::of(sc).velocityOffset;
 	offset.assign(sc->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
-	for (size_t k = 0; k + 6 < resumedOffsets.size(); k += 7) {
-		const auto id = static_cast<size_t>(resumedOffsets[k]);
-		if (id < offset.size()) offset[id] = Vector3r(resumedOffsets[k + 4], resumedOffsets[k + 5], resumedOffsets[k + 6]);
+	for (size_t k = 0; k + savedMotionStride <= resumedMotion.size(); k += savedMotionStride) {
+		const auto id = static_cast<size_t>(resumedMotion[k]);
+		if (id < offset.size()) offset[id] = resumedVector(k, 4);
 	}
-	std::vector<Real>().swap(resumedOffsets);
+	std::vector<Real>().swap(resumedMotion);
 }
 
 // The explicit bridges' damping rate of body `id` (P14's row sum, from the last full update and
@@ -121,7 +120,7 @@ void ViscBridgeTimeStepper::advanceOffsets(Scene* sc, Real dtBefore)
 	static const Vector3r unstarted = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
 	if (restartOffsets) offset.clear(), restartOffsets = false;
 	offset.resize(n, unstarted);
-	const Vector3r gravity = newtonGravity(sc);
+	const Vector3r gravity = ViscBridgeContext::newtonGravity(sc);
 	for (size_t id = 0; id < n; ++id) {
 		const bool counted = id < previousForce.size() && previousForce[id].allFinite() && forceIter == sc->iter;
 		if (!counted) { // not a body the estimate counts this step (a clump, a fixed or a new one)
@@ -136,13 +135,6 @@ void ViscBridgeTimeStepper::advanceOffsets(Scene* sc, Real dtBefore)
 		const Vector3r a = acceleration(*(*sc->bodies)[id]->state, previousForce[id], gravity);
 		offset[id] = offset[id].allFinite() ? Vector3r(offset[id] + 0.5 * (sc->dt - dtBefore) * a) : Vector3r(0.5 * sc->dt * a);
 	}
-}
-
-Vector3r ViscBridgeTimeStepper::newtonGravity(Scene* sc)
-{
-	for (const auto& e : sc->engines)
-		if (const auto* newton = dynamic_cast<const NewtonIntegrator*>(e.get())) return newton->gravity;
-	return Vector3r::Zero();
 }
 
 Real ViscBridgeTimeStepper::accuracyStep(Scene* sc)

@@ -11,6 +11,7 @@
 // gets a fresh full update.
 #include "viscbridge/engines/ViscBridgeTimeStepper.hpp"
 #include "viscbridge/scene/SceneValidation.hpp"
+#include "viscbridge/yade/SceneAttachment.hpp"
 #include "viscbridge/yade/ViscBridgeContext.hpp"
 #include <boost/functional/hash.hpp>
 #include <core/Omega.hpp>
@@ -125,9 +126,7 @@ void ViscBridgeTimeStepper::preSave(ViscBridgeTimeStepper&)
 	// and what the next step's estimate starts from: the forces of the last step (A1) and the
 	// leapfrog's offsets (A1b), (id, F, o) of the bodies that have both (older scenes end here; read
 	// where the scene has them: saving must not add a context to the scene it is writing)
-	const ViscBridgeContext* context = nullptr;
-	for (const auto& p : saved ? saved->miscParams : std::vector<shared_ptr<Serializable>>())
-		if (const auto* c = dynamic_cast<const ViscBridgeContext*>(p.get())) context = c;
+	const auto        context = saved ? existingAttachment<ViscBridgeContext>(saved) : nullptr;
 	std::vector<Real> motion;
 	const size_t      counted = context ? std::min(context->velocityOffset.size(), previousForce.size()) : 0;
 	for (size_t id = 0; id < counted; ++id) {
@@ -172,10 +171,10 @@ void ViscBridgeTimeStepper::resumeForces()
 {
 	const auto none = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
 	previousForce.clear();
-	for (size_t k = 0; k + 6 < resumedOffsets.size(); k += 7) {
-		const auto id = static_cast<size_t>(resumedOffsets[k]);
+	for (size_t k = 0; k + savedMotionStride <= resumedMotion.size(); k += savedMotionStride) {
+		const auto id = static_cast<size_t>(resumedMotion[k]);
 		previousForce.resize(std::max(previousForce.size(), id + 1), none);
-		previousForce[id] = Vector3r(resumedOffsets[k + 1], resumedOffsets[k + 2], resumedOffsets[k + 3]);
+		previousForce[id] = resumedVector(k, 1);
 	}
 }
 
@@ -219,7 +218,7 @@ void ViscBridgeTimeStepper::restoreSavedState()
 		rollback.keep(checked());
 		if (r.at < savedState.size()) {
 			forceIter = static_cast<long>(r.next());
-			r.unpack(resumedOffsets);
+			r.unpack(resumedMotion);
 			resumeForces();
 		}
 	}

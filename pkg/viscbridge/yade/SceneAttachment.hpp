@@ -8,10 +8,17 @@
 
 namespace yade {
 
-template <class T> shared_ptr<T> sceneAttachment(Scene* scene)
+// The scene's attachment of class T, or null (none is created: e.g. while the scene is being saved).
+template <class T> shared_ptr<T> existingAttachment(const Scene* scene)
 {
 	for (const auto& p : scene->miscParams)
 		if (auto found = YADE_PTR_DYN_CAST<T>(p)) return found;
+	return nullptr;
+}
+
+template <class T> shared_ptr<T> sceneAttachment(Scene* scene)
+{
+	if (auto found = existingAttachment<T>(scene)) return found;
 	auto created = shared_ptr<T>(new T);
 	scene->miscParams.push_back(created);
 	return created;

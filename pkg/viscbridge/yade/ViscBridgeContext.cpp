@@ -1,6 +1,7 @@
 #include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/yade/SceneAttachment.hpp"
 #include <core/Engine.hpp>
+#include <pkg/dem/NewtonIntegrator.hpp>
 #include <lib/factory/ClassFactory.hpp>
 #include <algorithm>
 #ifdef YADE_OPENMP
@@ -15,6 +16,12 @@ shared_ptr<ViscBridgeContext> ViscBridgeContext::shared(Scene* scene)
 }
 
 ViscBridgeContext& ViscBridgeContext::of(Scene* scene) { return *shared(scene); }
+
+Vector3r ViscBridgeContext::newtonGravity(const Scene* scene)
+{
+	const auto* newton = findEngine<NewtonIntegrator>(scene);
+	return newton ? newton->gravity : Vector3r::Zero();
+}
 
 bool ViscBridgeContext::hasEngine(const Scene* scene, const std::string& className)
 {

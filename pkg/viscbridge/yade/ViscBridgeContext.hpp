@@ -39,6 +39,8 @@ public:
 
 	// Whether O.engines has an engine of class `className` (by name: engines never know each other's classes).
 	static bool hasEngine(const Scene* scene, const std::string& className);
+	// The gravity NewtonIntegrator adds (zero without one).
+	static Vector3r newtonGravity(const Scene* scene);
 	// The first engine of O.engines that implements interface `Interface` (declared in this layer), or null.
 	template <class Interface> static const Interface* findEngine(const Scene* scene)
 	{

@@ -338,6 +338,26 @@ public:
 	// pre is a Cholesky factor of this matrix or of a recent one (lagged), and its one application
 	// stands for the solve, as an estimate allows; else CG to `tolerance` from y's value, stopping
 	// at maxIterations with whatever it reached (an estimate needs no fallback).
+	void filter(const VecXd& u, VecXd& y, double tolerance, int maxIterations, const Preconditioner* pre, bool factor) const
+	{
+		const VecXd mask = freeMask();
+		const VecXd b    = inertialLoad(u).cwiseProduct(mask);
+		if (factor && pre) {
+			pre->apply(b, y);
+			y.array() *= mask.array();
+			return;
+		}
+		const double bnorm = b.norm();
+		y                  = y.size() == b.size() ? VecXd(y.cwiseProduct(mask)) : VecXd::Zero(b.size());
+		if (bnorm == 0) return;
+		SolveReport rep;
+		const auto  product = maskedProduct(mask, rep);
+		VecXd       r;
+		product(y, r);
+		r = b - r;
+		conjugateGradients(y, r, bnorm, tolerance, maxIterations, product, preconditioning(pre, mask, rep), SerialReduction(), rep);
+	}
+
 	// The same for the columns of U at once, each as filter() would; with a factor, one application
 	// for all of them.
 	void filterColumns(const MatXd& U, MatXd& Y, double tolerance, int maxIterations, const Preconditioner* pre, bool factor) const
@@ -357,26 +377,6 @@ public:
 			filter(U.col(c), y, tolerance, maxIterations, pre, factor);
 			Y.col(c) = y;
 		}
-	}
-
-	void filter(const VecXd& u, VecXd& y, double tolerance, int maxIterations, const Preconditioner* pre, bool factor) const
-	{
-		const VecXd mask = freeMask();
-		const VecXd b    = inertialLoad(u).cwiseProduct(mask);
-		if (factor && pre) {
-			pre->apply(b, y);
-			y.array() *= mask.array();
-			return;
-		}
-		const double bnorm = b.norm();
-		y                  = y.size() == b.size() ? VecXd(y.cwiseProduct(mask)) : VecXd::Zero(b.size());
-		if (bnorm == 0) return;
-		SolveReport rep;
-		const auto  product = maskedProduct(mask, rep);
-		VecXd       r;
-		product(y, r);
-		r = b - r;
-		conjugateGradients(y, r, bnorm, tolerance, maxIterations, product, preconditioning(pre, mask, rep), SerialReduction(), rep);
 	}
 
 	// Forces −D v (with the shift) on every body, for the solved velocities: what the bridges exert.

@@ -34,26 +34,7 @@ public:
 	// z ≈ A⁻¹ r: r's blocks of the rows' bodies gathered, solved on the rows, scattered back.
 	void apply(const VecXd& r, VecXd& z) const override
 	{
-		if (z.size() != r.size()) z.setZero(r.size());
-		for (const int i : prescribedBodies_)
-			z.segment<6>(6 * i).setZero();
-		rows_.resize(6 * bodyOfRow_.size());
-		for (size_t i = 0; i < bodyOfRow_.size(); ++i)
-			rows_.segment<6>(6 * i) = r.segment<6>(6 * bodyOfRow_[i]);
-		solveRows(rows_, solution_);
-		for (size_t i = 0; i < bodyOfRow_.size(); ++i)
-			z.segment<6>(6 * bodyOfRow_[i]) = solution_.segment<6>(6 * i);
-	}
-
-	void applyColumns(const MatXd& R, MatXd& Z) const override
-	{
-		Z.setZero(R.rows(), R.cols());
-		MatXd rows(6 * bodyOfRow_.size(), R.cols()), solution;
-		for (size_t i = 0; i < bodyOfRow_.size(); ++i)
-			rows.middleRows<6>(6 * i) = R.middleRows<6>(6 * bodyOfRow_[i]);
-		solveRowsColumns(rows, solution);
-		for (size_t i = 0; i < bodyOfRow_.size(); ++i)
-			Z.middleRows<6>(6 * bodyOfRow_[i]) = solution.middleRows<6>(6 * i);
+		onRows(r, z, rows_, solution_, [this](const VecXd& b, VecXd& x) { solveRows(b, x); });
 	}
 
 protected:
@@ -74,14 +55,19 @@ protected:
 	virtual double refreshWork() const                              = 0;
 	virtual double applicationWork() const                          = 0;
 	virtual void   solveRows(const VecXd& b, VecXd& x) const = 0; // x ≈ A⁻¹ b on the block rows
-	virtual void   solveRowsColumns(const MatXd& B, MatXd& X) const // the same for each column
+	// r's blocks of the rows' bodies gathered (a column per right-hand side), solved on the rows by
+	// solve(rows, solution), scattered back; zero on the bodies without a free component.
+	template <class M, class Solve> void onRows(const M& r, M& z, M& rows, M& solution, Solve solve) const
 	{
-		X.resize(B.rows(), B.cols());
-		VecXd x;
-		for (long c = 0; c < B.cols(); ++c) {
-			solveRows(B.col(c), x);
-			X.col(c) = x;
-		}
+		z.resize(r.rows(), r.cols());
+		for (const int i : prescribedBodies_)
+			z.template middleRows<6>(6 * i).setZero();
+		rows.resize(6 * bodyOfRow_.size(), r.cols());
+		for (size_t i = 0; i < bodyOfRow_.size(); ++i)
+			rows.template middleRows<6>(6 * i) = r.template middleRows<6>(6 * bodyOfRow_[i]);
+		solve(rows, solution);
+		for (size_t i = 0; i < bodyOfRow_.size(); ++i)
+			z.template middleRows<6>(6 * bodyOfRow_[i]) = solution.template middleRows<6>(6 * i);
 	}
 
 	std::vector<int> bodyOfRow_, prescribedBodies_; // the system's body of each block row; bodies without a free component
@@ -107,7 +93,12 @@ private:
 	double refreshWork() const override { return factor_.factorisationWork(); }
 	double applicationWork() const override { return factor_.solveWork(); }
 	void   solveRows(const VecXd& b, VecXd& x) const override { factor_.solve(b, x); }
-	void   solveRowsColumns(const MatXd& B, MatXd& X) const override { factor_.solve(B, X); }
+	// one sweep of the factor for all columns
+	void applyColumns(const MatXd& R, MatXd& Z) const override
+	{
+		MatXd rows, solution;
+		onRows(R, Z, rows, solution, [this](const MatXd& b, MatXd& x) { factor_.solve(b, x); });
+	}
 
 	CholmodFactor factor_;
 };
