@@ -271,6 +271,32 @@ SolveReport solvedByCG(const ImplicitViscousSystem& factorised, const ImplicitVi
 }
 } // namespace
 
+// The factor's memory is known from the analysis alone, before it is taken (what the solver's
+// preconditioner='auto' weighs): a chain's simplicial factor holds its 21n + 36(n−1) entries with a row
+// index each; a complete graph's supernodal factor at least the dense lower triangle.  Factorising
+// does not change it.
+TEST(ImplicitLinearAlgebra, CholmodFactorKnowsItsSizeBeforeFactorising)
+{
+	for (const bool complete : { false, true }) {
+		const int    n = 40;
+		BlockMatrix6 A;
+		A.diagonal.assign(n, (complete ? 2.0 * n : 4.0) * Mat6::Identity());
+		for (int i = 0; i < n; ++i)
+			for (int j = i + 1; j < (complete ? n : std::min(i + 2, n)); ++j) {
+				A.pairs.emplace_back(i, j);
+				A.upper.push_back(-Mat6::Identity());
+			}
+		CholmodFactor chol;
+		EXPECT_EQ(chol.factorBytes(), 0u);
+		chol.analyse(n, A.pairs);
+		const size_t analysed = chol.factorBytes();
+		if (complete) EXPECT_GE(analysed, sizeof(double) * (6 * n) * (6 * n + 1) / 2);
+		else EXPECT_EQ(analysed, (sizeof(double) + sizeof(int)) * (21 * n + 36 * (n - 1)));
+		ASSERT_TRUE(chol.factorise(A));
+		EXPECT_EQ(chol.factorBytes(), analysed) << complete;
+	}
+}
+
 // The assembled block matrix is the matrix-free product on the free rows and columns.
 TEST(ImplicitLinearAlgebra, AssembledMatrixIsTheMatrixFreeProduct)
 {

@@ -192,17 +192,18 @@ def test_washino_cannot_be_implicit(run_error):
 
 def test_solver_parameters_are_validated():
     s = yw.ViscBridgeImplicitSolver()
-    for name, value in (('tolerance', 0.0), ('tolerance', 1.5), ('maxIterations', 0), ('preconditioner', 'ilu')):
+    for name, value in (('tolerance', 0.0), ('tolerance', 1.5), ('maxIterations', 0), ('preconditioner', 'ilu'),
+                        ('factorMemoryLimit', -1.0), ('factorMemoryLimit', float('inf'))):
         with pytest.raises(ValueError, match=name):
             setattr(s, name, value)
-    assert (s.tolerance, s.maxIterations, s.preconditioner, s.refreshIterations) == (1e-6, 500, 'cholesky', 12)  # the defaults, unchanged
+    assert (s.tolerance, s.maxIterations, s.preconditioner, s.refreshIterations, s.factorMemoryLimit) == (1e-6, 500, 'auto', 12, 0)  # the defaults, unchanged
 
 
-def _lattice_run(preconditioner, steps=30):
+def _lattice_run(preconditioner, steps=30, factorMemoryLimit=0):
     """The 10×10×10 lattice at 1000 Pa·s (Δt·C/m ≈ 1e5) after `steps` implicit steps."""
     O.reset()
     lattice(n_side=10)
-    solver().preconditioner, solver().tolerance = preconditioner, 1e-10
+    solver().preconditioner, solver().tolerance, solver().factorMemoryLimit = preconditioner, 1e-10, factorMemoryLimit
     O.run(steps, True)
     return [b.state.pos for b in O.bodies], [b.state.vel for b in O.bodies], solver()
 
@@ -219,3 +220,18 @@ def test_multigrid_gives_the_factor_s_solution():
     assert max((a - b).norm() for a, b in zip(vel_c, vel_m)) <= 1e-6 * vmax
     assert max((a - b).norm() for a, b in zip(pos_c, pos_m)) <= 1e-6 * R
     print('multigrid: %d levels, %.1f CG iterations per solve, %d refreshes' % (s.levels, s.totalIterations / s.solves, s.factorisations))
+
+
+def test_auto_takes_the_factor_where_it_fits_and_the_multigrid_where_it_does_not():
+    """preconditioner='auto' (the default) factorises while the analysed factor fits in
+    factorMemoryLimit (by default half the memory available: a 1000-sphere lattice's factor, a few
+    MB, does), and takes the multigrid, with the same solution, when it does not."""
+    pos_c, vel_c, s = _lattice_run('auto')
+    assert (s.preconditionerInUse, s.fallbacks) == ('cholesky', 0)
+    fits = s.factorBytes
+    assert 36 * 8 * s.factorBlocks <= fits <= 1e8  # at least its 6×6 blocks' numbers; a few MB
+    pos_m, vel_m, s = _lattice_run('auto', factorMemoryLimit=fits / 2)
+    assert (s.preconditionerInUse, s.fallbacks, s.factorBytes) == ('multigrid', 0, fits)
+    vmax = max(v.norm() for v in vel_c)
+    assert max((a - b).norm() for a, b in zip(vel_c, vel_m)) <= 1e-6 * vmax
+    assert max((a - b).norm() for a, b in zip(pos_c, pos_m)) <= 1e-6 * R

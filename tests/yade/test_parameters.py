@@ -28,7 +28,7 @@ ATTRIBUTES = [
     (yw.ViscBridgeImplicitSolver, 'tolerance', 1.0, '(0, 1)'),
     (yw.ViscBridgeImplicitSolver, 'maxIterations', 0, '[1,'),
     (yw.ViscBridgeImplicitSolver, 'refreshIterations', 0, '[1,'),
-    (yw.ViscBridgeImplicitSolver, 'preconditioner', 'ilu', "'cholesky', 'multigrid', 'jacobi'"),
+    (yw.ViscBridgeImplicitSolver, 'preconditioner', 'ilu', "'cholesky', 'multigrid', 'jacobi', 'auto'"),
     (yw.ViscBridgeGuard, 'iterPeriod', 0, '[1,'),
     (yw.ViscBridgeGuard, 'energyMargin', 0.9, '[1,'),
     (yw.ViscBridgeGuard, 'energyFloor', -1.0, '>= 0'),

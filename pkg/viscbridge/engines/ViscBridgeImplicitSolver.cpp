@@ -6,6 +6,7 @@
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include "viscbridge/core/linalg/ImplicitViscousSystem.hpp"
 #include "viscbridge/core/linalg/LaggedPreconditioner.hpp"
+#include "viscbridge/core/util/AvailableMemory.hpp"
 #include "viscbridge/core/util/Validation.hpp"
 #include "viscbridge/scene/SceneValidation.hpp"
 #include "viscbridge/yade/ViscBridgeContext.hpp"
@@ -23,8 +24,11 @@ namespace yade {
 CREATE_LOGGER(ViscBridgeImplicitSolver);
 
 namespace {
-	// the preconditioners, by name (the first is the default; the last is not lagged)
-	constexpr std::array<const char*, 3> preconditionerNames { "cholesky", "multigrid", "jacobi" };
+	// the preconditioners, by name: two lagged ones, block Jacobi (not lagged), and the choice
+	// between the two lagged ones by the factor's size (the default)
+	constexpr std::array<const char*, 4> preconditionerNames { "cholesky", "multigrid", "jacobi", "auto" };
+	const std::string                    cholesky = preconditionerNames[0], multigrid = preconditionerNames[1], jacobi = preconditionerNames[2],
+	                  automatic = preconditionerNames[3];
 }
 
 void ViscBridgeImplicitSolver::postLoad(ViscBridgeImplicitSolver&)
@@ -35,6 +39,7 @@ void ViscBridgeImplicitSolver::postLoad(ViscBridgeImplicitSolver&)
 		viscbridge::requireInRange(name, "maxIterations", maxIterations, 1, false, 1e9, false);
 		viscbridge::requireInRange(name, "refreshIterations", refreshIterations, 1, false, 1e9, false);
 		viscbridge::parseName(name, "preconditioner", preconditioner, preconditionerNames, "preconditioner");
+		viscbridge::requireInRange(name, "factorMemoryLimit", factorMemoryLimit, 0, false, std::numeric_limits<double>::infinity(), true);
 	});
 }
 
@@ -121,7 +126,7 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 	stepErrorSq   = 0;
 	stepErrorIter = -1;
 	if (!compare && !relax) return;
-	const bool      factor = pre && preconditionerInUse == preconditionerNames[0];
+	const bool      factor = pre && preconditionerInUse == cholesky;
 	Eigen::MatrixXd in(sys.size(), int(compare) + int(relax)), out;
 	if (compare) in.col(0) = u;
 	if (relax) in.col(in.cols() - 1) = o;
@@ -243,7 +248,7 @@ ViscBridgeImplicitSolver::Gathered ViscBridgeImplicitSolver::gather(const Newton
 	g.system.resize(nBridges);
 	g.pattern.resize(nBodies + nBridges);
 	const auto own      = distributed::ownership(scene); // [MPI] a rank solves for its own bodies
-	const bool branches = preconditioner == preconditionerNames[1]; // only the multigrid reads them (its rigid motions)
+	const bool branches = preconditioner == multigrid || preconditioner == automatic; // only the multigrid reads them (its rigid motions)
 #pragma omp parallel
 	{
 #pragma omp for schedule(static)
@@ -364,8 +369,8 @@ Eigen::VectorXd ViscBridgeImplicitSolver::warmStartGuess(const vb::ImplicitVisco
 // if only the numbers changed.
 const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const vb::ImplicitViscousSystem& sys, const std::vector<long>& pattern)
 {
-	const std::string kind = sys.size() == 0 ? preconditionerNames[2] : preconditioner;
-	if (kind == preconditionerNames[2]) {
+	const std::string kind = sys.size() == 0 ? jacobi : preconditioner == automatic ? automaticKind(sys) : preconditioner;
+	if (kind == jacobi) {
 		preconditionerInUse = kind;
 		factorKind          = "";
 		return nullptr;
@@ -386,21 +391,17 @@ const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const 
 	// The multigrid of the same unknowns stays a valid preconditioner when bridges form or rupture (the
 	// Cholesky factor's analysis must match the couplings, so it is redone).
 	const bool sameUnknowns = samePattern
-	        || (kind == preconditionerNames[1] && factorisation && factorisation->matches(sys.size())
+	        || (kind == multigrid && factorisation && factorisation->matches(sys.size())
 	            && std::equal(pattern.begin(), pattern.begin() + sys.bodies().size(), factorisedOrder.begin(), factorisedOrder.begin() + sys.bodies().size()));
 	const bool pays = cycleSolves > 0 && static_cast<double>(lastIterationsSeen) * cycleSolves >= refreshCost + cycleIterations;
 	// refreshIterations counts beyond what a fresh multigrid needs (tens of iterations; the factor: one or two)
-	const int cap = refreshIterations + (kind == preconditionerNames[1] ? freshIterations : 0);
+	const int cap = refreshIterations + (kind == multigrid ? freshIterations : 0);
 	if (sameUnknowns && !pays && lastIterationsSeen <= cap && factorisedIter >= 0) return factorisation.get();
-	if (!factorisation) {
-		if (kind == preconditionerNames[1]) factorisation = shared_ptr<vb::LaggedPreconditioner>(new vb::LaggedMultigrid);
-		else factorisation = shared_ptr<vb::LaggedPreconditioner>(new vb::LaggedCholesky);
-	}
-	if (!factorisation->refresh(sys, samePattern)) {
+	if (!refreshLagged(sys, samePattern)) {
 		factorisation.reset(); // not positive definite: CG with block Jacobi, then the fallback
 		factorisedPattern.clear();
 		factorisedOrder.clear();
-		preconditionerInUse = preconditionerNames[2];
+		preconditionerInUse = jacobi;
 		factorKind          = "";
 		return nullptr;
 	}
@@ -414,6 +415,40 @@ const vb::Preconditioner* ViscBridgeImplicitSolver::refreshPreconditioner(const 
 	cycleSolves = cycleIterations = 0;
 	++factorisations;
 	return factorisation.get();
+}
+
+// 'auto' keeps the multigrid it chose while the bed has about the bodies and bridges of that choice
+// (within a quarter: a new analysis costs about a factorisation); otherwise it tries the factor.
+std::string ViscBridgeImplicitSolver::automaticKind(const vb::ImplicitViscousSystem& sys) const
+{
+	auto near = [](size_t now, size_t then) { return 4 * std::max(now, then) <= 5 * std::min(now, then); };
+	const bool keep = preconditionerInUse == multigrid && factorisation && near(sys.size(), chosenUnknowns) && near(sys.bridges().size(), chosenBridges);
+	return keep ? multigrid : cholesky;
+}
+
+// The preconditioner of kind preconditionerInUse recomputed; the Cholesky factor analysed first, so
+// that 'auto' takes the multigrid instead when the factor would not fit in factorMemoryLimit: the
+// factor is the faster of the two at every size measured, 10³–10⁵ bodies, and the solver's peak
+// memory was 1.5× its factor's at 10⁵ (docs/performance.md §8b).  False: not positive definite.
+bool ViscBridgeImplicitSolver::refreshLagged(const vb::ImplicitViscousSystem& sys, bool samePattern)
+{
+	if (preconditionerInUse == multigrid) {
+		if (!factorisation) factorisation = boost::make_shared<vb::LaggedMultigrid>();
+		return factorisation->refresh(sys, samePattern);
+	}
+	if (!factorisation) factorisation = boost::make_shared<vb::LaggedCholesky>();
+	auto& factor = static_cast<vb::LaggedCholesky&>(*factorisation);
+	factor.analyse(sys, samePattern);
+	factorBytes = static_cast<Real>(factor.factorBytes());
+	const Real limit = factorMemoryLimit > 0 ? factorMemoryLimit : 0.5 * static_cast<Real>(vb::availableMemoryBytes());
+	if (preconditioner != automatic || factorBytes <= limit) return factor.factorise();
+	LOG_INFO("preconditioner='auto': the Cholesky factor of " << sys.bodies().size() << " bodies would take " << factorBytes / 1e9 << " GB (limit "
+	                                                          << limit / 1e9 << " GB); the multigrid takes its place");
+	preconditionerInUse = multigrid;
+	chosenUnknowns      = sys.size();
+	chosenBridges       = sys.bridges().size();
+	factorisation       = boost::make_shared<vb::LaggedMultigrid>();
+	return factorisation->refresh(sys, false);
 }
 
 void ViscBridgeImplicitSolver::solve(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, Eigen::VectorXd& x, const vb::Preconditioner* pre)

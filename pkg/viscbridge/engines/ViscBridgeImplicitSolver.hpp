@@ -31,8 +31,8 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	int                                    freshIterations    = 0; // of the first solve after the last refresh
 	long                                   cycleSolves = 0, cycleIterations = 0; // since the last refresh
 	size_t                                 validatedSignature = 0; // sceneSignature() of the last validated scene
-	AttributeRollback<Real, int, int, std::string> rollback;
-	auto checked() { return std::tie(tolerance, maxIterations, refreshIterations, preconditioner); }
+	AttributeRollback<Real, int, int, std::string, Real> rollback;
+	auto checked() { return std::tie(tolerance, maxIterations, refreshIterations, preconditioner, factorMemoryLimit); }
 	std::array<int, viscbridge::energyKeyCount> energyIndex; // O.energy slots of the keys it books
 	void bookKey(viscbridge::EnergyKey key, Real value);
 
@@ -52,6 +52,9 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	mutable std::vector<std::array<Body::id_t, 2>> endsOf;
 	Eigen::VectorXd               warmStartGuess(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids) const;
 	const viscbridge::Preconditioner* refreshPreconditioner(const viscbridge::ImplicitViscousSystem& sys, const std::vector<long>& pattern);
+	std::string                       automaticKind(const viscbridge::ImplicitViscousSystem& sys) const;
+	bool                              refreshLagged(const viscbridge::ImplicitViscousSystem& sys, bool samePattern);
+	size_t                            chosenUnknowns = 0, chosenBridges = 0; // of the system for which 'auto' last chose the multigrid
 	void solve(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, Eigen::VectorXd& x, const viscbridge::Preconditioner* pre);
 	void applyForces(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
 	                 const std::vector<viscbridge::BridgeResistance>& R);
@@ -102,7 +105,7 @@ public:
 		":yref:`NewtonIntegrator` (:yref:`viscbridge.engines(integration='implicit')` does).\n\n"
 		"The linear system is solved matrix-free by preconditioned conjugate gradients to the relative "
 		"residual `tolerance`, warm-started from the last step's viscous forces; the matrix products run "
-		"in parallel with OpenMP. The default preconditioner is a Cholesky factorisation of the "
+		"in parallel with OpenMP. The default preconditioner ('auto') is a Cholesky factorisation of the "
 		"system assembled in 6×6 blocks (one block row per body), by SuiteSparse's CHOLMOD (supernodal on the BLAS where the factor is dense, simplicial where it is sparse), "
 		"that is kept while the bridges stay the same and "
 		"refreshed when that pays: when the last solve's iterations reach the average cost per step since "
@@ -111,12 +114,12 @@ public:
 		"constant coefficients, so it stays nearly exact; it ages as the bridges' normals turn); 'multigrid' "
 		"uses an aggregation multigrid whose coarse unknowns are the rigid motions of clusters of bodies (P15b) instead: its memory "
 		"grows linearly with the bodies and it is kept while bridges form and rupture, but it needs tens of iterations per step "
-		"(docs/performance.md §8 says where each is faster); 'jacobi' uses 6×6 blocks per body (no factorisation, but hundreds of "
+		"(docs/performance.md §8 says where each is faster; 'auto' takes it only where the factor would not fit in factorMemoryLimit); 'jacobi' uses 6×6 blocks per body (no factorisation, but hundreds of "
 		"iterations when Δt·C/m is large). If CG does not converge within maxIterations, the "
 		"assembled system is factorised and solved directly instead, with a warning and `fallbacks` "
 		"counting it; if that fails too, the run stops with an error.\n\n"
 		"Counters: iterations, totalIterations, products, solves, factorisations (refreshes), fallbacks, "
-		"factorBlocks, refreshCost; and the wall time of each step of the engine (gather, refresh, solve with its "
+		"factorBlocks, factorBytes, refreshCost, preconditionerInUse; and the wall time of each step of the engine (gather, refresh, solve with its "
 		"products and preconditioner, apply, book energy) in timeGather … timeEnergy.\n\n"
 		"Under yade.mpy (docs/cluster.md) it solves one system over all ranks: each rank holds its own bodies' rows, the "
 		"velocities of the neighbours' bodies its bridges touch are exchanged at every CG iteration, and the residual is "
@@ -124,8 +127,10 @@ public:
 		((Real,tolerance,1e-6,Attr::triggerPostLoad,"Relative residual ‖r‖/‖b‖ at which CG stops, in (0, 1). The default adds an error far below the scheme's own (bench/accuracy_cost.py, docs/performance.md §1); 1e-9 costs about two more iterations per step."))
 		((int,maxIterations,500,Attr::triggerPostLoad,"CG iterations before the direct fallback, >= 1."))
 		((bool,warmStart,true,,"Start CG from the velocities the last step's viscous forces would give (else from the current velocities)."))
-		((string,preconditioner,"cholesky",Attr::triggerPostLoad,"'cholesky' (lagged sparse factorisation in 6×6 blocks: a few iterations per step, but its fill, memory and sweeps grow faster than the bodies), 'multigrid' (lagged aggregation multigrid whose coarse unknowns are the rigid motions of clusters of bodies, P15b: memory and cost per iteration grow linearly with the bodies, at about 100 iterations per solve on stiff networks) or 'jacobi' (6×6 blocks per body). preconditionerInUse says which ran; docs/performance.md §8 compares them."))
-		((string,preconditionerInUse,"",Attr::readonly|Attr::noSave,"The preconditioner of the last solve: 'cholesky', 'multigrid' or 'jacobi' (also when a factorisation failed and block Jacobi took over)."))
+		((string,preconditioner,"auto",Attr::triggerPostLoad,"'auto' (the default: 'cholesky' unless its factor would take more than factorMemoryLimit, then 'multigrid'; the factor is the faster of the two at every size measured, docs/performance.md §8), 'cholesky' (lagged sparse factorisation in 6×6 blocks: a few iterations per step, but its fill, memory and sweeps grow faster than the bodies), 'multigrid' (lagged aggregation multigrid whose coarse unknowns are the rigid motions of clusters of bodies, P15b: memory and cost per iteration grow linearly with the bodies, at about 100 iterations per solve on stiff networks) or 'jacobi' (6×6 blocks per body). preconditionerInUse says which ran."))
+		((Real,factorMemoryLimit,0,Attr::triggerPostLoad|Attr::noSave,"With preconditioner='auto': the largest Cholesky factor it accepts [bytes], >= 0; 0 (the default): half the memory available (Linux's MemAvailable) when the factor is analysed, since the solver's peak memory was 1.5× its factor's at 10⁵ bodies (docs/performance.md §8b). It depends on the machine, so it is not saved with the scene: a loaded scene has the default again."))
+		((string,preconditionerInUse,"",Attr::readonly|Attr::noSave,"The preconditioner of the last solve: 'cholesky', 'multigrid' or 'jacobi' (also when a factorisation failed and block Jacobi took over); with 'auto', the one it chose."))
+		((Real,factorBytes,0,Attr::readonly|Attr::noSave,"Memory of the last Cholesky factor analysed [bytes] (CHOLMOD's L: its numbers and row indices), which 'auto' compares with factorMemoryLimit."))
 		((string,factorKind,"",Attr::readonly|Attr::noSave,"With 'cholesky': the kind of the last factorisation, 'supernodal' (dense BLAS kernels on groups of columns: large or densely bridged beds) or 'simplicial' (column by column: small, sparse ones, where it is faster); CHOLMOD chooses from the factor's flops per entry (docs/performance.md §2). Empty otherwise."))
 		((int,levels,0,Attr::readonly|Attr::noSave,"Levels of the last multigrid built, the coarsest (factorised) included; 1 for the Cholesky factor."))
 		((int,refreshIterations,12,Attr::triggerPostLoad,"With 'cholesky' or 'multigrid': recompute the preconditioner at the latest when the last solve took more CG iterations than this (with 'multigrid': more than this beyond the first solve after the last refresh), >= 1 (earlier when the renewal rule says a refresh pays; it ages as the bridges' normals turn: docs/performance.md §2)."))

@@ -71,11 +71,23 @@ public:
 		else X = llt_.solve(B);
 	}
 
+	bool analysed() const { return analysed_; }
 	bool factorised() const { return factorised_; }
 	bool supernodal() const { return llt_.supernodal(); } // else simplicial (kSupernodalSwitch)
 	int  size() const { return static_cast<int>(below_.size()); }
 	// 6×6 blocks' worth of L below its diagonal blocks (fill included), from CHOLMOD's count of L's entries.
 	size_t offDiagonalBlocks() const { return static_cast<size_t>(std::max(0.0, (lnz() - 21.0 * size()) / 36.0)); }
+	// Bytes L will take once factorised (its numbers and CHOLMOD's integer pattern), known from the
+	// analysis: a supernodal factor stores each supernode's columns dense (xsize numbers, ssize row
+	// indices), a simplicial one its lnz entries with a row index each.
+	size_t factorBytes() const
+	{
+		if (size() == 0 || !analysed_) return 0;
+		const cholmod_factor& L = *llt_.factor();
+		const double entries = L.is_super ? static_cast<double>(L.xsize) : lnz();
+		const double indices = L.is_super ? static_cast<double>(L.ssize) : lnz();
+		return static_cast<size_t>(entries * sizeof(double) + indices * sizeof(int));
+	}
 	// The work of one factorisation and of one solve in 6×6 block × 6-vector products (72 flops), from
 	// CHOLMOD's flop count and L's entries, at the supernodal factor's speed: what the implicit solver
 	// weighs to decide when a refresh pays.
@@ -93,7 +105,8 @@ private:
 	// CHOLMOD's factor, with the kind CHOLMOD chose for it readable
 	class CholmodLLT : public Eigen::CholmodDecomposition<Eigen::SparseMatrix<double>, Eigen::Lower> {
 	public:
-		bool supernodal() const { return m_cholmodFactor && m_cholmodFactor->is_super; }
+		bool                  supernodal() const { return m_cholmodFactor && m_cholmodFactor->is_super; }
+		const cholmod_factor* factor() const { return m_cholmodFactor; }
 	};
 	// Flops per factor entry below which the factor is simplicial.  Measured (docs/performance.md §2):
 	// the 300-sphere settling bed (up to ~45) is 12 % faster simplicial (sweeps 1.5× faster, refresh

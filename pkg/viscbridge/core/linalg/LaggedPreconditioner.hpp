@@ -82,9 +82,23 @@ class LaggedCholesky : public LaggedPreconditioner {
 public:
 	bool refresh(const ImplicitViscousSystem& system, bool samePattern) override
 	{
-		const BlockMatrix6 A = blockRows(system);
-		if (!samePattern || !factor_.factorised() || factor_.size() != A.size()) factor_.analyse(A.size(), A.pairs);
-		return ready_ = factor_.factorise(A);
+		analyse(system, samePattern);
+		return factorise();
+	}
+	// A refresh in two halves, so that the factor's size is known before its memory is taken: the
+	// system's matrix assembled and its pattern analysed (the analysis kept if samePattern) ...
+	void analyse(const ImplicitViscousSystem& system, bool samePattern)
+	{
+		assembled_ = blockRows(system);
+		if (!samePattern || !factor_.factorised() || factor_.size() != assembled_.size()) factor_.analyse(assembled_.size(), assembled_.pairs);
+	}
+	size_t factorBytes() const { return factor_.factorBytes(); } // of the analysed factor
+	// ... then the numbers; false if the matrix is not positive definite.
+	bool factorise()
+	{
+		ready_     = factor_.factorise(assembled_);
+		assembled_ = BlockMatrix6();
+		return ready_;
 	}
 	size_t      storedBlocks() const override { return factor_.offDiagonalBlocks(); }
 	const char* factorKind() const override { return factor_.supernodal() ? "supernodal" : "simplicial"; }
@@ -101,6 +115,7 @@ private:
 	}
 
 	CholmodFactor factor_;
+	BlockMatrix6  assembled_; // between analyse() and factorise()
 };
 
 class LaggedMultigrid : public LaggedPreconditioner {
