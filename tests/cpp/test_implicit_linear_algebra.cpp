@@ -75,6 +75,20 @@ BlockMatrix6 randomBlockMatrix(std::mt19937& g, int n, int couplings)
 	return A;
 }
 
+// n bodies coupled as a chain (each to the next) or as a complete graph (each to every other), by
+// −1 blocks on a diagonal that keeps the matrix positive definite.
+BlockMatrix6 chainOrCompleteGraph(int n, bool complete)
+{
+	BlockMatrix6 A;
+	A.diagonal.assign(n, (complete ? 2.0 * n : 4.0) * Mat6::Identity());
+	for (int i = 0; i < n; ++i)
+		for (int j = i + 1; j < (complete ? n : std::min(i + 2, n)); ++j) {
+			A.pairs.emplace_back(i, j);
+			A.upper.push_back(-Mat6::Identity());
+		}
+	return A;
+}
+
 Eigen::MatrixXd dense(const BlockMatrix6& A)
 {
 	Eigen::MatrixXd M = Eigen::MatrixXd::Zero(6 * A.size(), 6 * A.size());
@@ -174,13 +188,7 @@ TEST(ImplicitLinearAlgebra, CholmodFactorChoosesItsKindByDensity)
 {
 	for (const bool complete : { false, true }) {
 		const int    n = 40;
-		BlockMatrix6 A;
-		A.diagonal.assign(n, (complete ? 2.0 * n : 4.0) * Mat6::Identity());
-		for (int i = 0; i < n; ++i)
-			for (int j = i + 1; j < (complete ? n : std::min(i + 2, n)); ++j) {
-				A.pairs.emplace_back(i, j);
-				A.upper.push_back(-Mat6::Identity());
-			}
+		BlockMatrix6 A = chainOrCompleteGraph(n, complete);
 		CholmodFactor chol;
 		chol.analyse(n, A.pairs);
 		ASSERT_TRUE(chol.factorise(A)) << complete;
@@ -278,14 +286,8 @@ SolveReport solvedByCG(const ImplicitViscousSystem& factorised, const ImplicitVi
 TEST(ImplicitLinearAlgebra, CholmodFactorKnowsItsSizeBeforeFactorising)
 {
 	for (const bool complete : { false, true }) {
-		const int    n = 40;
-		BlockMatrix6 A;
-		A.diagonal.assign(n, (complete ? 2.0 * n : 4.0) * Mat6::Identity());
-		for (int i = 0; i < n; ++i)
-			for (int j = i + 1; j < (complete ? n : std::min(i + 2, n)); ++j) {
-				A.pairs.emplace_back(i, j);
-				A.upper.push_back(-Mat6::Identity());
-			}
+		const int          n = 40;
+		const BlockMatrix6 A = chainOrCompleteGraph(n, complete);
 		CholmodFactor chol;
 		EXPECT_EQ(chol.factorBytes(), 0u);
 		chol.analyse(n, A.pairs);
