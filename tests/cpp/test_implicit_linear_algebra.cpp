@@ -299,6 +299,25 @@ TEST(ImplicitLinearAlgebra, CholmodFactorKnowsItsSizeBeforeFactorising)
 	}
 }
 
+// A small factor's calls run OpenBLAS on one thread, whatever the process set before: its pool's
+// workers, spinning after each call, would take the cores of YADE's OpenMP loops (BlasThreads.hpp).
+TEST(ImplicitLinearAlgebra, SmallFactorRunsBlasOnOneThread)
+{
+	if (!setBlasThreads(2)) GTEST_SKIP() << "the BLAS of this process is not OpenBLAS";
+	ASSERT_EQ(blasThreads(), 2);
+	const int          n = 40;
+	const BlockMatrix6 A = chainOrCompleteGraph(n, true);
+	CholmodFactor      chol;
+	chol.analyse(n, A.pairs);
+	EXPECT_EQ(chol.blasThreadsUsed(), 1);
+	ASSERT_TRUE(chol.factorise(A));
+	EXPECT_EQ(blasThreads(), 1);
+	setBlasThreads(2);
+	VecXd x;
+	chol.solve(VecXd::Ones(6 * n), x);
+	EXPECT_EQ(blasThreads(), 1);
+}
+
 // The assembled block matrix is the matrix-free product on the free rows and columns.
 TEST(ImplicitLinearAlgebra, AssembledMatrixIsTheMatrixFreeProduct)
 {

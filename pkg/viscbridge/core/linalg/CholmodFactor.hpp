@@ -16,10 +16,14 @@
 // with it the analysis, depends on the block pattern only.
 #pragma once
 #include "viscbridge/core/linalg/BlockMatrix6.hpp"
+#include "viscbridge/core/util/BlasThreads.hpp"
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <vector>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace viscbridge {
 
@@ -47,6 +51,7 @@ public:
 		c.final_super        = 1;
 		llt_.analyzePattern(lower_);
 		analysed_ = llt_.info() == Eigen::Success;
+		blasThreads_ = analysed_ && factorBytes() >= kThreadedBlasBytes ? maxThreads() : 1;
 	}
 
 	// False if A is not positive definite (or not of the analysed pattern).
@@ -55,22 +60,34 @@ public:
 		if (!analysed_ || A.size() != size() || A.pairs.size() != pairCount_) return factorised_ = false;
 		if (size() == 0) return factorised_ = true;
 		fillLower(&A);
+		setBlasThreads(blasThreads_);
 		llt_.factorize(lower_);
 		return factorised_ = llt_.info() == Eigen::Success;
 	}
 
 	void solve(const VecXd& b, VecXd& x) const
 	{
-		if (size() == 0) x.resize(0);
-		else x = llt_.solve(b);
+		if (size() == 0) {
+			x.resize(0);
+			return;
+		}
+		setBlasThreads(blasThreads_);
+		x = llt_.solve(b);
 	}
 	// X = A⁻¹ B, one sweep over the factor for all of B's columns (CHOLMOD solves a dense block).
 	void solve(const MatXd& B, MatXd& X) const
 	{
-		if (size() == 0) X.resize(0, B.cols());
-		else X = llt_.solve(B);
+		if (size() == 0) {
+			X.resize(0, B.cols());
+			return;
+		}
+		setBlasThreads(blasThreads_);
+		X = llt_.solve(B);
 	}
 
+	// The threads the BLAS runs this factor's calls on: all of OpenMP's for a factor of at least
+	// kThreadedBlasBytes, whose supernodes give BLAS threads work, else one.
+	int  blasThreadsUsed() const { return blasThreads_; }
 	bool analysed() const { return analysed_; }
 	bool factorised() const { return factorised_; }
 	bool supernodal() const { return llt_.supernodal(); } // else simplicial (kSupernodalSwitch)
@@ -112,6 +129,20 @@ private:
 	// the 300-sphere settling bed (up to ~45) is 12 % faster simplicial (sweeps 1.5× faster, refresh
 	// 1.5× slower); the wetted 1000-sphere random bed (~300) is 3× slower simplicial (refresh 4.5×).
 	static constexpr double kSupernodalSwitch = 100;
+	// Factor size from which OpenBLAS's threads pay for the cores they take from OpenMP's loops while
+	// they spin after a call (core/util/BlasThreads.hpp).  Measured on two cores (docs/performance.md
+	// §2): at 200 MB and 1.3 GB of factor the implicit step on two threads took 0.53× and 0.93× of one
+	// thread's with OpenBLAS on two, 0.98× and 1.10× with it on one (and the factorisation alone was
+	// 9 % slower on two); at 9.5 GB two BLAS threads factorise 1.33× and sweep 1.09× faster.
+	static constexpr double kThreadedBlasBytes = 4e9;
+	static int              maxThreads()
+	{
+#ifdef _OPENMP
+		return omp_get_max_threads();
+#else
+		return 1;
+#endif
+	}
 
 	double lnz() const { return size() == 0 ? 0.0 : const_cast<CholmodLLT&>(llt_).cholmod().lnz; }
 
@@ -140,6 +171,7 @@ private:
 	Eigen::SparseMatrix<double>                  lower_;
 	CholmodLLT                                   llt_;
 	bool                                         analysed_ = false, factorised_ = false;
+	int                                          blasThreads_ = 1;
 };
 
 } // namespace viscbridge
