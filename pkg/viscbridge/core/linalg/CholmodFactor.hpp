@@ -65,25 +65,9 @@ public:
 		return factorised_ = llt_.info() == Eigen::Success;
 	}
 
-	void solve(const VecXd& b, VecXd& x) const
-	{
-		if (size() == 0) {
-			x.resize(0);
-			return;
-		}
-		setBlasThreads(blasThreads_);
-		x = llt_.solve(b);
-	}
+	void solve(const VecXd& b, VecXd& x) const { solveDense(b, x); }
 	// X = A⁻¹ B, one sweep over the factor for all of B's columns (CHOLMOD solves a dense block).
-	void solve(const MatXd& B, MatXd& X) const
-	{
-		if (size() == 0) {
-			X.resize(0, B.cols());
-			return;
-		}
-		setBlasThreads(blasThreads_);
-		X = llt_.solve(B);
-	}
+	void solve(const MatXd& B, MatXd& X) const { solveDense(B, X); }
 
 	// The threads the BLAS runs this factor's calls on: all of OpenMP's for a factor of at least
 	// kThreadedBlasBytes, whose supernodes give BLAS threads work, else one.
@@ -142,6 +126,17 @@ private:
 #else
 		return 1;
 #endif
+	}
+
+	template <class Dense>
+	void solveDense(const Dense& B, Dense& X) const
+	{
+		if (size() == 0) {
+			X.resize(0, B.cols());
+			return;
+		}
+		setBlasThreads(blasThreads_);
+		X = llt_.solve(B);
 	}
 
 	double lnz() const { return size() == 0 ? 0.0 : const_cast<CholmodLLT&>(llt_).cholmod().lnz; }
