@@ -169,3 +169,27 @@ TEST(PairContact, ShearPotentialAccumulatesIncrements)
 	EXPECT_EQ(st2.shearPotential, 0.0);
 	EXPECT_EQ(out.elasticPotential, 0.0);
 }
+
+// Spheres placed exactly touching (overlap 0, found by the property-based campaign with a touching
+// packing): ks = 0 and the Coulomb limit is 0, so a shear force carried from the previous steps
+// slides to zero in one step.  The friction dissipation is then the shear energy stored until now,
+// finite (it was ((trial − F)/ks)·F = (x/0)·0 = NaN), and nothing stays stored.
+TEST(PairContact, SlidingAtZeroOverlapReleasesTheStoredShearEnergy)
+{
+	const PairParams p     = referenceParams(kMEff);
+	const double     delta = 1e-8;
+	const Vec3       D     = 1e-13 * kT; // elastic at δ: below the Coulomb limit
+	PairState        st;
+	PairOutput       loaded;
+	ASSERT_TRUE(evaluatePair<true>(Dry{}, p, st, restingOverlap(delta, D), loaded));
+	ASSERT_GT(st.shearElastic.norm(), 0.0);
+	const double stored = st.shearPotential; // |F_s|²/(2 ks) of the first step
+	ASSERT_NEAR(stored, 0.5 * st.shearElastic.squaredNorm() / loaded.ks, 1e-12 * stored);
+	ASSERT_GT(stored, 0.0);
+	PairOutput touching;
+	ASSERT_TRUE(evaluatePair<true>(Dry{}, p, st, restingOverlap(0.0), touching));
+	EXPECT_TRUE(std::isfinite(touching.dissipFriction));
+	EXPECT_NEAR(touching.dissipFriction, stored, 1e-12 * stored);
+	EXPECT_EQ(touching.elasticPotential, 0.0);
+	EXPECT_EQ(st.shearElastic.norm(), 0.0);
+}

@@ -205,3 +205,35 @@ def test_advice_counts_the_bridge_that_ruptured_before_the_diagnosis(dt, run_err
     scene(safe)
     O.run(20000, True)
     assert guard().lastError == '' and O.interactions[0, 1].phys.bridge
+
+
+@pytest.mark.parametrize('integration', ['explicit', 'implicit'])
+def test_two_dry_spheres_stacked_on_a_floor_are_not_stopped(integration):
+    """The simplest scene a user builds: two spheres stacked touching on a floor, no film, so no
+    bridge and nothing damps them.  They bounce and climb back towards where they were released;
+    the guard stopped them at step 160 ('kinetic + elastic energy exceeds…'), comparing the
+    leapfrog's energy error of the bounce with the little energy left once gravity took it back.
+    The energy they held is the scale (physics.md E5)."""
+    r = 0.5e-3
+    O.bodies.append([utils.wall(0, axis=2), utils.sphere((0, 0, r), r), utils.sphere((0, 0, 3 * r), r)])
+    O.engines = viscbridge.engines(viscosity=5.0, liquidModel='film', integration=integration)
+    O.dt = 1e-6
+    O.run(2000, True)
+    assert guard().checks >= 100
+    top = O.bodies[2].state.pos[2]
+    assert 2.9 * r < top < 3.01 * r, 'still bouncing on the lower sphere, not flown off: z = %g' % top
+
+
+def test_a_blow_up_after_a_bounce_is_still_stopped(run_error):
+    """The margin's scale is the most energy the scene held, not what it holds now: an explicit
+    viscous blow-up that starts once the stack has bounced back up is still stopped.  The spheres
+    get their films (a bridge forms) after 300 steps, at a Δt 10× the explicit viscous limit."""
+    r = 0.5e-3
+    O.bodies.append([utils.wall(0, axis=2), utils.sphere((0, 0, r), r), utils.sphere((0, 0, 3 * r), r)])
+    O.engines = viscbridge.engines(viscosity=5.0, liquidModel='film', integration='explicit', timeStepper=False) + [
+        yw.PyRunner(iterPeriod=300, command='import viscbridge.liquid as l; l.add([1, 2], 1e-12) if O.iter == 300 else None')]
+    O.dt = 4e-6  # dry: a quarter of the collision limit
+    msg = run_error(2000)
+    assert O.iter > 300, 'no false stop before the bridges formed'
+    assert 'exceeds' in msg or 'NaN' in msg
+    assert next(e for e in O.engines if isinstance(e, yw.ViscBridgeLiquid)).formed >= 1

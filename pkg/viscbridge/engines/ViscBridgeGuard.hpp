@@ -13,6 +13,7 @@ class ViscBridgeGuard : public GlobalEngine {
 	std::vector<Vector3r>   lastPos;   // per body id, at the previous call (kinematic bodies' work)
 	std::vector<Body::id_t> kinematic; // bodies with degrees of freedom that do not move under forces (walls, fixed or partly blocked ones)
 	Real                    startEnergy = 0, boundaryWork = 0, lastSlack = 0, capillaryAtReference = 0;
+	Real                    peakEnergyIn = 0; // the most energy the scene has held since the reference (E5: the margin's scale)
 	long                    referenceIter = -1;
 	int                     boundaryWorkIx = -1;
 	bool                    referencePending = true; // taken one step after a change, once contacts exist
@@ -41,10 +42,14 @@ class ViscBridgeGuard : public GlobalEngine {
 	void        takeReference(Real slack);
 	void        accumulateBoundaryWork(bool newRun);
 	void        checkEnergy();
-	Real        storedElasticEnergy() const;
-	Real        mechanicalEnergyNow() const;
+	// over the interactions: the stored elastic energy, and −(work of the capillary forces) so far,
+	// the last step's included
+	struct InteractionEnergy {
+		Real elastic, capillary;
+	};
+	InteractionEnergy interactionEnergy() const;
+	Real        mechanicalEnergyNow(bool upper) const; // upper: the larger half-step kinetic energy (E5)
 	Vector3r    gravity() const; // NewtonIntegrator's
-	Real        capillaryWorkSoFar() const; // −(work of the capillary forces), cumulative (the scene's context)
 	std::string diagnose(Body::id_t worst, const std::string& what);
 	std::string safeStepAdvice(bool implicit, bool washino);
 	// [MPI] under yade.mpy, the same decisions on every rank (ViscBridgeGuardDistributed.cpp; no-ops serially)
@@ -69,9 +74,11 @@ public:
 		"its value and what is allowed.\n\n"
 		"Every iterPeriod steps it stops the run (raising an exception, so ``O.run(n, True)`` reports it) "
 		"on a NaN or inf position or velocity, or when the kinetic plus elastic energy exceeds what the "
-		"scene had at the reference plus what was put in since: the work of gravity (from the positions) "
+		"scene had at the reference plus what was put in since (the work of gravity, from the positions, "
 		"and of moving walls and other kinematic bodies (accumulated every step; with O.trackEnergy also "
-		"added to O.energy as ``boundaryWork``, so that ``O.energy.total()`` closes with moving walls). "
+		"added to O.energy as ``boundaryWork``, so that ``O.energy.total()`` closes with moving walls)), "
+		"by more than (energyMargin − 1) × the most energy it has held since the reference (physics.md E5: the integrator's own "
+		"energy error scales with the energy in motion, not with what is left when a bouncing body climbs back). "
 		"Physics cannot exceed that bound; an explicit scheme above its stable step does. The message "
 		"names the body, its most demanding interaction with its coefficients, the time-step criterion "
 		"that was violated, and a Δt that would be safe (half the rigorous bound P14 of the current contacts "
@@ -89,7 +96,7 @@ public:
 		"takes the same decision at the same step, a stop carries the rank that owns the body, and a dt that differs "
 		"between ranks stops every rank.",
 		((int,iterPeriod,10,Attr::triggerPostLoad,"Steps between the NaN and energy checks, >= 1 (walls' work is accumulated every step)."))
-		((Real,energyMargin,1.05,Attr::triggerPostLoad,"Factor on the energy put in that the kinetic energy may reach, >= 1."))
+		((Real,energyMargin,1.05,Attr::triggerPostLoad,"Tolerance of the energy check, >= 1: the kinetic + elastic energy may exceed the energy put in by (energyMargin − 1) × the most energy the scene has held since the reference."))
 		((Real,energyFloor,0,Attr::triggerPostLoad,"Kinetic energy always accepted [J], >= 0 (for scenes with nothing put in)."))
 		((long,checks,0,Attr::readonly,"Number of energy checks done."))
 		((long,rebaselines,0,Attr::readonly,"Energy references taken again at the start of a new run or by rebaseline()."))

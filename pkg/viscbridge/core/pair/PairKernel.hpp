@@ -118,7 +118,10 @@ namespace kernel {
 			[[maybe_unused]] const Vec3 trial = shearElastic;
 			shearElastic *= maxFs / shearElastic.norm();
 			shearForce = shearElastic;
-			if constexpr (E) e[EnergyKey::plastDissip] += ((trial - shearElastic) / r.ks).dot(shearElastic);
+			// at an overlap of exactly 0 (spheres placed touching) ks and the sliding limit are 0: the
+			// shear force goes to 0 and the shear energy stored until now is what sliding dissipates (E3)
+			if constexpr (E) e[EnergyKey::plastDissip] += r.ks > 0 ? ((trial - shearElastic) / r.ks).dot(shearElastic) : r.shearPotential;
+			if (!(r.ks > 0)) r.shearPotential = 0;
 		} else if constexpr (D::capabilities.enabled) {
 			const Vec3 shearViscous = cs * (in.shearIncrement / in.dt);
 			shearForce              = shearElastic - shearViscous;
