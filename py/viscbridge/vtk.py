@@ -305,8 +305,8 @@ def bridge_recorder(prefix, iterPeriod=None, virtPeriod=None, only_bridges=False
         raise ValueError('bridge_recorder: give exactly one of iterPeriod=... (steps) or virtPeriod=... [s]')
     if not isinstance(prefix, str) or not prefix:
         _checks.reject('bridge_recorder', 'prefix', prefix, 'a non-empty path prefix')
-    _checks.boolean('bridge_recorder', 'particles', particles)
-    _checks.boolean('bridge_recorder', 'boundary', boundary)
+    for name, flag in (('only_bridges', only_bridges), ('particles', particles), ('boundary', boundary)):
+        _checks.boolean('bridge_recorder', name, flag)
     if iterPeriod is not None:
         period = _checks.integer('bridge_recorder', 'iterPeriod', iterPeriod, minimum=1)
     else:

@@ -86,6 +86,9 @@ def test_recorder_arguments():
         vtk.bridge_recorder('x-')
     with pytest.raises(ValueError, match='iterPeriod'):
         vtk.bridge_recorder('x-', iterPeriod=0)
+    for flag in ('only_bridges', 'particles', 'boundary'):
+        with pytest.raises(ValueError, match=flag):
+            vtk.bridge_recorder('x-', iterPeriod=1, **{flag: 'yes'})
 
 
 def test_particles_carry_their_liquid_and_agglomerate(tmp_path):
