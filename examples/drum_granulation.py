@@ -12,7 +12,8 @@
 #
 # Every 1/16 revolution it records the agglomerates (viscbridge.agglomerates(): connected components
 # of the bridges between particles) and writes VTK files for ParaView (particles coloured by
-# agglomerate or liquid, bridges as lines).  Output (OUTPUT_DIRECTORY, default output/drum):
+# agglomerate or liquid, bridges as lines, the turning drum's facets and end walls; a last frame at
+# the end of every quarter revolution run, docs/drum.md).  Output (OUTPUT_DIRECTORY, default output/drum):
 # agglomerates.csv, agglomerates.png (size distribution by mass at four times; number of
 # agglomerates, largest and d50 over time; agglomerates broken and formed by coalescence), vtk/*.vtp
 # and vtk/*.pvd.

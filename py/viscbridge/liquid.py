@@ -18,7 +18,7 @@ import math
 
 from . import _checks
 
-__all__ = ['set_film', 'add', 'film', 'total', 'in_films', 'in_bridges', 'distribution', 'Distribution',
+__all__ = ['set_film', 'add', 'film', 'total', 'in_films', 'in_bridge', 'in_bridges', 'distribution', 'Distribution',
            'spray', 'Spray', 'make_dry']
 
 
@@ -91,9 +91,17 @@ def _bridges():
     return [i for i in O.interactions if i.isReal and isinstance(i.phys, yw.ViscBridgePhys) and i.phys.bridge]
 
 
+def in_bridge(phys):
+    """The liquid a ViscBridge contact (its ViscBridgePhys `phys`) holds [m³]: its bridge's volume, 0
+    without a bridge.  A contact without a bridge keeps in ``bridgeVolume`` the largest volume a
+    bridge forming there may take (the Ip2's): that is no liquid, and summing it over contacts counts
+    liquid that is not there."""
+    return phys.bridgeVolume if phys.bridge else 0.0
+
+
 def in_bridges():
     """The liquid in all existing bridges [m³]."""
-    return math.fsum(i.phys.bridgeVolume for i in _bridges())
+    return math.fsum(in_bridge(i.phys) for i in _bridges())
 
 
 def total():
@@ -127,7 +135,7 @@ def distribution():
     for I in _bridges():
         ends = [i for i in (I.id1, I.id2) if i in where]
         for i in ends:
-            liquid[where[i]] += I.phys.bridgeVolume / len(ends)
+            liquid[where[i]] += in_bridge(I.phys) / len(ends)
     return Distribution(spheres, liquid)
 
 

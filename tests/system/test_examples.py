@@ -12,7 +12,8 @@ EXAMPLES = os.path.join(os.path.dirname(__file__), '..', '..', 'examples')
 # what each example must write into its output directory
 PROMISED = {
     'binder_spray.py': ['binder_spray.csv', 'binder_spray.png'],
-    'drum_granulation.py': ['agglomerates.csv', 'agglomerates.png', 'vtk/drum-bridges.pvd', 'vtk/drum-particles.pvd'],
+    'drum_granulation.py': ['agglomerates.csv', 'agglomerates.png', 'vtk/drum-bridges.pvd', 'vtk/drum-particles.pvd',
+                            'vtk/drum-boundary.pvd'],
     'settling.py': ['settling.png', 'summary.txt'] + ['%s.%s' % (k, x) for k in ('stepper', 'dt_tv', 'dt_2.5tv', 'implicit')
                                                        for x in ('csv', 'png')],
 }

@@ -5,6 +5,7 @@
 #include "viscbridge/core/models/Registry.hpp"
 #include "viscbridge/core/timestep/TimeStepBounds.hpp"
 #include "viscbridge/core/util/Validation.hpp"
+#include "viscbridge/scene/RunEnd.hpp"
 #include "viscbridge/scene/SceneValidation.hpp"
 #include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/distributed/Distributed.hpp"
@@ -144,7 +145,7 @@ bool ViscBridgeGuard::startsNewRun()
 	lastCallIter   = scene->iter;
 	lastStopAtIter = scene->stopAtIter;
 	lastStopAtTime = scene->stopAtTime;
-	lastStepOfRun  = (scene->stopAtIter > 0 && scene->iter + 1 == scene->stopAtIter) || (scene->stopAtTime > 0 && scene->time + scene->dt >= scene->stopAtTime);
+	lastStepOfRun  = isLastStepOfRun(*scene);
 	return newRun;
 }
 

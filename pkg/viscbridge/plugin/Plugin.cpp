@@ -12,9 +12,10 @@
 #include "viscbridge/engines/ViscBridgeImplicitSolver.hpp"
 #include "viscbridge/engines/ViscBridgeImplicitWarmStart.hpp"
 #include "viscbridge/engines/ViscBridgeLiquid.hpp"
+#include "viscbridge/engines/ViscBridgeRecorder.hpp"
 
 namespace yade {
 YADE_PLUGIN((ViscBridgeHeaderProbe)(ViscBridgePhys)(Ip2_FrictMat_FrictMat_ViscBridgePhys)(Law2_ScGeom_ViscBridgePhys_HertzViscous)
             (Ig2_Wall_Sphere_ViscBridgeScGeom)(Ig2_Facet_Sphere_ViscBridgeScGeom)
-            (ViscBridgeTimeStepper)(ViscBridgeImplicitSolver)(ViscBridgeImplicitWarmStart)(ViscBridgeGuard)(ViscBridgeLiquid)(ViscBridgeState)(ViscBridgeContext));
+            (ViscBridgeTimeStepper)(ViscBridgeImplicitSolver)(ViscBridgeImplicitWarmStart)(ViscBridgeGuard)(ViscBridgeLiquid)(ViscBridgeRecorder)(ViscBridgeState)(ViscBridgeContext));
 } // namespace yade
