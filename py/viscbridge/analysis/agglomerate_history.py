@@ -26,7 +26,7 @@ import os
 
 import numpy
 
-from .. import _checks, liquid
+from .. import _checks, _registry, liquid
 from .agglomerates import agglomerates, transitions
 
 __all__ = ['AgglomerateHistory', 'Column', 'COLUMN_INFO', 'COLUMNS', 'mass_median_size', 'granule_mass_median_size',
@@ -114,19 +114,16 @@ def statistics(a):
         bridges=int(round(a.coordination * len(a.ids) / 2)) if len(a.ids) else 0)
 
 
-def _checked_params(params):
-    """`params` as a dict of names to plain values (numbers, names, True/False, None): what JSON holds."""
-    f = 'AgglomerateHistory'
-    allowed = 'a dict of parameter names to numbers, strings, True/False or None'
-    if not isinstance(params, dict):
-        _checks.reject(f, 'params', params, allowed)
-    out = {}
-    for k, v in params.items():
-        plain = v is None or isinstance(v, (bool, str)) or (isinstance(v, numbers.Real) and math.isfinite(v))
-        if not isinstance(k, str) or not plain:
-            _checks.reject(f, 'params', {k: v}, allowed + ' (finite numbers)')
-        out[k] = v if v is None or isinstance(v, (bool, str)) else (int(v) if isinstance(v, numbers.Integral) else float(v))
-    return out
+def _checked_params(name, params, allowed, plain):
+    """`params` as a dict of names to values that `plain` accepts (ValueError naming `name` otherwise)."""
+    if not isinstance(params, dict) or not all(isinstance(k, str) and plain(v) for k, v in params.items()):
+        _checks.reject('AgglomerateHistory', name, params, allowed)
+    return {k: v if v is None or isinstance(v, (bool, str)) else (int(v) if isinstance(v, numbers.Integral) else float(v))
+            for k, v in params.items()}
+
+
+def _plain_value(v):
+    return v is None or isinstance(v, (bool, str)) or (isinstance(v, numbers.Real) and math.isfinite(v))
 
 
 def _cell(value):
@@ -139,14 +136,16 @@ class AgglomerateHistory:
     fractions for :meth:`plot`.
 
     `drum`: the :func:`viscbridge.scenes.drum` handle of the run: its period gives the
-    ``revolutions`` column (O.time / period: the drum turns from t = 0) and its parameters go into the
-    sidecar.  Other scenes: `period` [s] for a ``revolutions`` column, or neither (the column is nan).
-    `params`: the run's parameters for the sidecar (names to numbers, strings, True/False, None), added
-    to the drum's (a name in both takes the value of `params`).  `min_force`, `min_volume`: the edge
-    thresholds of agglomerates().  The CSV's header and the sidecar (:func:`sidecar_path`) are written
-    here, replacing earlier ones."""
+    ``revolutions`` column (O.time / period: the drum turns from t = 0) and its parameters and their
+    units go into the sidecar.  Other scenes: `period` [s] for a ``revolutions`` column, or neither
+    (the column is nan).  `params`: the run's parameters for the sidecar (names to finite numbers,
+    strings, True/False or None), added to the drum's (a name in both takes the value of `params`);
+    `units`: their units (names to strings; a name of the Ip2's numeric parameters, such as
+    viscosity, has its unit without it).  `min_force`, `min_volume`: the edge thresholds of
+    agglomerates().  The CSV's header and the sidecar (:func:`sidecar_path`) are written here,
+    replacing earlier ones."""
 
-    def __init__(self, csv_path, min_force=0.0, min_volume=0.0, drum=None, period=None, params=None):
+    def __init__(self, csv_path, min_force=0.0, min_volume=0.0, drum=None, period=None, params=None, units=None):
         f = 'AgglomerateHistory'
         if not isinstance(csv_path, str) or not csv_path or csv_path.endswith('.json'):
             _checks.reject(f, 'csv_path', csv_path, 'a file name not ending in .json (the sidecar takes that name)')
@@ -154,43 +153,59 @@ class AgglomerateHistory:
         self.min_volume = _checks.non_negative(f, 'min_volume', min_volume, ' [m³]')
         if drum is not None and period is not None:
             raise ValueError('AgglomerateHistory: give drum=... or period=... [s], not both (a drum has its period)')
-        units = {}
-        self.params = {}
+        params = _checked_params('params', {} if params is None else params, 'a dict of names to finite numbers, '
+                                 'strings, True/False or None', _plain_value)
+        units = _checked_params('units', {} if units is None else units, 'a dict of names to unit strings',
+                                lambda u: isinstance(u, str))
+        self.params, given_units = {}, {k: p['unit'] for k, p in _registry.PARAMETERS.items()}
         if drum is not None:
             if not all(hasattr(drum, a) for a in ('period', 'params', 'units')):
                 _checks.reject(f, 'drum', drum, 'the handle viscbridge.scenes.drum(...) returns')
-            period, self.params, units = drum.period, _checked_params(drum.params), dict(drum.units)
+            period = drum.period
+            self.params = _checked_params('drum', drum.params, "a drum handle's parameters", _plain_value)
+            given_units.update(drum.units)
         self.period = None if period is None else _checks.positive(f, 'period', period, ' [s]')
-        self.params.update(_checked_params({} if params is None else params))
+        self.params.update(params)
+        given_units.update(units)
         self.csv_path = csv_path
         self.rows, self.snapshots = [], []
-        self._last = None
+        self._last, self._runners = None, []
         os.makedirs(os.path.dirname(os.path.abspath(csv_path)), exist_ok=True)
         with open(csv_path, 'w') as fh:
             fh.write(','.join(COLUMNS) + '\n')
         sidecar = dict(kind=SIDECAR_KIND, csv=os.path.basename(csv_path), period=self.period, params=self.params,
-                       units={k: units.get(k, '') for k in self.params},
+                       units={k: given_units.get(k, '') for k in self.params},
                        columns={name: dict(unit=c.unit, meaning=c.meaning) for name, c in COLUMN_INFO.items()})
         with open(sidecar_path(csv_path), 'w') as fh:
             json.dump(sidecar, fh, indent=1, ensure_ascii=False)
             fh.write('\n')
 
     def record(self):
-        """Measure O now and append a row (to ``rows`` and the CSV); returns the row."""
+        """Measure O now and append a row (to ``rows`` and the CSV); returns the row.  A call by hand
+        counts as one of the :meth:`recorder` s': their periods restart from it, so that a row taken
+        at the end of a run (which stops before its recorders' turn) is not logged again when the next
+        run starts."""
         from yade import O
+        for runner in self._runners:
+            runner.virtLast, runner.iterLast, runner.nDone = O.time, O.iter, max(runner.nDone, 1)
         a = agglomerates(min_force=self.min_force, min_volume=self.min_volume)
         broken, merged = transitions(self._last, a) if self._last is not None else (0, 0)
         self._last = a
         row = dict(t=O.time, iter=O.iter, revolutions=O.time / self.period if self.period else math.nan,
                    **statistics(a), liquid_sprayed=liquid.sprayed(), broken=broken, merged=merged)
+        return self._append(row, a)
+
+    def _append(self, row, a):
+        """Append `row` (every column of COLUMNS) measured on the agglomerates `a` to ``rows`` and the CSV."""
         self.rows.append(row)
-        self.snapshots.append((O.time, a.sizes.copy(), a.mass_fractions.copy()))
+        self.snapshots.append((row['t'], a.sizes.copy(), a.mass_fractions.copy()))
         with open(self.csv_path, 'a') as fh:
             fh.write(','.join(_cell(row[c]) for c in COLUMNS) + '\n')
         return row
 
     def recorder(self, iterPeriod=None, virtPeriod=None):
-        """A PyRunner that calls :meth:`record` every `iterPeriod` steps or `virtPeriod` seconds."""
+        """A PyRunner that calls :meth:`record` every `iterPeriod` steps or `virtPeriod` seconds (from
+        the first step on, and from every call by hand)."""
         import yade.wrapper as yw
         if (iterPeriod is None) == (virtPeriod is None):
             raise ValueError('AgglomerateHistory.recorder: give exactly one of iterPeriod=... or virtPeriod=... [s]')
@@ -199,8 +214,13 @@ class AgglomerateHistory:
         command = ('import viscbridge.analysis.agglomerate_history; '
                    'viscbridge.analysis.agglomerate_history._HISTORIES[%d].record()' % (len(_HISTORIES) - 1))
         if iterPeriod is not None:
-            return yw.PyRunner(iterPeriod=_checks.integer('recorder', 'iterPeriod', iterPeriod, minimum=1), command=command, initRun=True)
-        return yw.PyRunner(virtPeriod=_checks.positive('recorder', 'virtPeriod', virtPeriod, ' [s]'), command=command, initRun=True)
+            runner = yw.PyRunner(iterPeriod=_checks.integer('recorder', 'iterPeriod', iterPeriod, minimum=1), command=command,
+                                 initRun=True)
+        else:
+            runner = yw.PyRunner(virtPeriod=_checks.positive('recorder', 'virtPeriod', virtPeriod, ' [s]'), command=command,
+                                 initRun=True)
+        self._runners.append(runner)
+        return runner
 
     def plot(self, path, times=None, title='', x=None):
         """Write a PNG of the rows recorded so far: the mass distribution over agglomerate size at
