@@ -10,7 +10,7 @@ import pytest
 import viscbridge
 from viscbridge.analysis import compare
 from viscbridge.analysis.agglomerate_history import COLUMNS, AgglomerateHistory
-from viscbridge.analysis.comparison import read_run, run_labels
+from viscbridge.analysis.comparison import in_order, read_run, run_labels
 from history_rows import record
 
 GROWTH = [[], [(0, 1)], [(0, 1), (2, 3)], [(0, 1), (1, 2), (2, 3)]]
@@ -38,6 +38,17 @@ def test_two_runs_are_drawn_and_labelled_by_the_parameter_that_differs(two_runs,
     assert open(png, 'rb').read(8) == b'\x89PNG\r\n\x1a\n'
     # a CSV path stands for its run as its directory does, and time is an axis too
     assert compare([os.path.join(r, 'agglomerates.csv') for r in two_runs], str(tmp_path / 'cmp.svg'), x='t')
+
+
+def test_a_sweep_is_drawn_in_the_order_of_its_parameter(tmp_path):
+    """Runs given in any order (a shell glob of case-KEY/ directories) come out sorted by the
+    parameter that differs, numbers by value (10 after 5, although '10' < '5')."""
+    runs = [read_run(make_run(tmp_path / name, viscosity=mu, model=model))
+            for name, mu, model in (('c', 10.0, 'x'), ('a', 5.0, 'x'), ('b', 50.0, 'x'))]
+    assert [r.name for r in in_order(runs)] == ['a', 'c', 'b']
+    assert run_labels(in_order(runs)) == ['viscosity = 5 Pa·s', 'viscosity = 10 Pa·s', 'viscosity = 50 Pa·s']
+    mixed = [read_run(make_run(tmp_path / name, viscosity=mu)) for name, mu in (('n', None), ('s', 'high'), ('v', 1.0))]
+    assert [r.name for r in in_order(mixed)] == ['v', 's', 'n']
 
 
 def test_labels_fall_back_to_directory_names(tmp_path):

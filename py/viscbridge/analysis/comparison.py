@@ -24,7 +24,7 @@ import numpy
 from .. import _checks
 from .agglomerate_history import COLUMN_INFO, COLUMNS, SIDECAR_KIND, sidecar_path
 
-__all__ = ['compare', 'read_run', 'run_labels', 'Run', 'Panel', 'PANELS', 'X_AXES', 'draw_panel']
+__all__ = ['compare', 'read_run', 'run_labels', 'in_order', 'Run', 'Panel', 'PANELS', 'X_AXES', 'draw_panel']
 
 X_AXES = {'revolutions': 'revolutions', 't': 'time [s]'}
 """What runs can be drawn against: column → axis label."""
@@ -129,13 +129,29 @@ def _value_text(name, value, unit):
     return '%s = %s%s' % (name, text, ' ' + unit if unit else '')
 
 
-def run_labels(runs):
-    """Legend labels of :class:`Run` s: the parameters that differ between them ("viscosity = 5
-    Pa·s, n = 300"), or, when none differ (or the runs have no sidecar), their directory names."""
+def _differing(runs):
+    """The parameters whose values differ between the :class:`Run` s, in the order the runs list them."""
     names = []
     for r in runs:
         names += [k for k in r.params if k not in names]
-    differing = [k for k in names if len({json.dumps(r.params.get(k), sort_keys=True) for r in runs}) > 1]
+    return [k for k in names if len({json.dumps(r.params.get(k), sort_keys=True) for r in runs}) > 1]
+
+
+def in_order(runs):
+    """The :class:`Run` s sorted by the parameters that differ between them (numbers by value, then
+    names, then unset), as a sweep reads; in the given order when none differ."""
+    def value(v):
+        if isinstance(v, (int, float)) and not isinstance(v, bool):
+            return (0, v, '')
+        return (1, 0, str(v)) if v is not None else (2, 0, '')
+    differing = _differing(runs)
+    return sorted(runs, key=lambda r: [value(r.params.get(k)) for k in differing])
+
+
+def run_labels(runs):
+    """Legend labels of :class:`Run` s: the parameters that differ between them ("viscosity = 5
+    Pa·s, n = 300"), or, when none differ (or the runs have no sidecar), their directory names."""
+    differing = _differing(runs)
     if differing:
         labels = [', '.join(_value_text(k, r.params.get(k), r.units.get(k, '')) for k in differing) for r in runs]
         if len(set(labels)) == len(labels):
@@ -197,8 +213,9 @@ def compare(runs, path, x='revolutions', labels=None, title=''):
     `runs`: directories holding an agglomerates.csv of
     :class:`~viscbridge.analysis.agglomerate_history.AgglomerateHistory` (with its sidecar), or such
     CSV files.  `x`: 'revolutions' (the histories must know the drum's period) or 't' (time [s]).
-    `labels`: one legend label per run (default: the parameters that differ between the runs, as
-    recorded in the sidecars, else the directory names).  Panels: granules and agglomerates; granulated
+    `labels`: one legend label per run, in the order of `runs` (default: the parameters that differ
+    between the runs, as recorded in the sidecars, else the directory names; the runs are then
+    drawn in the order of those parameters, e.g. by increasing viscosity).  Panels: granules and agglomerates; granulated
     mass fraction; granule d50 (by mass) and the largest agglomerate; coordination; CoV of the liquid
     per particle.  ValueError naming the argument for a missing, empty or foreign CSV, an unknown `x`
     or labels that do not match the runs."""
@@ -211,6 +228,7 @@ def compare(runs, path, x='revolutions', labels=None, title=''):
         _checks.reject(f, 'path', path, 'a file name ending in .png, .pdf or .svg')
     read = _checked_runs(runs, x)
     if labels is None:
+        read = in_order(read)
         labels = run_labels(read)
     elif not isinstance(labels, (list, tuple)) or len(labels) != len(read) or not all(isinstance(s, str) for s in labels):
         _checks.reject(f, 'labels', labels, 'None or one string per run (%d)' % len(read))
