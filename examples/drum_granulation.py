@@ -21,10 +21,10 @@
 # python3 -m viscbridge.analysis compare DIR1 DIR2 -o cmp.png (docs/drum.md).
 # Ctrl-C or SIGTERM (a batch system's time limit) stops the run: it records a last row, brings the
 # PNG up to date and exits with status 130 or 143.
-# Expected (measured): the agglomerates grow and break — 1000 → 395 after one revolution, → about
-# 210 after three, the largest swinging between 450 and 620 spheres as its necks break and heal;
-# about 600 coalescences and 380 breakages over the run.  About 6 min on 2 cores (5.7 min
-# measured); where the time goes: docs/performance.md §7.
+# Expected (measured, docs/drum.md): the agglomerates grow and break — 1000 → 384 after one
+# revolution, → 210 after three, the granules holding 68 % and then 84 % of the mass, the largest
+# swinging between 290 and 650 spheres as its necks break and heal; about 630 coalescences and 400
+# breakages over the run.  About 9 min on one thread; where the time goes: docs/performance.md §7.
 # --quick (or VISCBRIDGE_QUICK=1): 150 spheres in a smaller drum for half a revolution (the tests).
 import os
 import signal
