@@ -224,7 +224,8 @@ def compare(runs, path, x='revolutions', labels=None, title=''):
     import matplotlib.pyplot as plt
     f = 'compare'
     _checks.choice(f, 'x', x, tuple(X_AXES))
-    if not isinstance(path, (str, os.PathLike)) or os.path.splitext(os.fspath(path))[1].lower() not in ('.png', '.pdf', '.svg'):
+    formats = ('.png', '.pdf', '.svg')
+    if not isinstance(path, (str, os.PathLike)) or os.path.splitext(os.fspath(path))[1].lower() not in formats:
         _checks.reject(f, 'path', path, 'a file name ending in .png, .pdf or .svg')
     read = _checked_runs(runs, x)
     if labels is None:

@@ -24,17 +24,18 @@ Command line (inside the environment, e.g. ``./yadew sh python3 -m viscbridge.sc
     python3 -m viscbridge.scan collect DIR                             # DIR/results.csv from results.jsonl
     python3 -m viscbridge.scan slurm  DIR                              # DIR/scan.sbatch for the same table
 
-``--help`` lists the case fields of each kind (:data:`CASE_FIELDS`, :data:`DRUM_FIELDS`).  Every case is checked before anything
-runs; equal cases (``viscosity=1`` and ``viscosity=1.0``) run once.  Every finished case is
-appended to ``DIR/results.jsonl`` at once; re-running skips finished cases, so a killed or
-interrupted scan resumes where it stopped.  ``DIR/cases.table`` holds the whole scan,
-``DIR/todo.table`` the cases yade-batch was given; per-case logs are ``DIR/case-KEY.log``.  Cases
+``--help`` lists the case fields of each kind (:data:`CASE_FIELDS`, :data:`DRUM_FIELDS`). Every case
+is checked before anything runs; equal cases (``viscosity=1`` and ``viscosity=1.0``) run once. Every
+finished case is appended to ``DIR/results.jsonl`` at once; re-running skips finished cases, so a
+killed or interrupted scan resumes where it stopped. ``DIR/cases.table`` holds the whole scan,
+``DIR/todo.table`` the cases yade-batch was given; per-case logs are ``DIR/case-KEY.log``. Cases
 that fail are listed with their error and make the command exit non-zero.
 
 Modules: :mod:`.cases` (fields, checks, keys, sets of cases, of each kind), :mod:`.bisection`,
-:mod:`.beds` (the cached dry beds), :mod:`.trial` (one settling case inside YADE), :mod:`.drum_trial`
-(one drum case), :mod:`.table` (the yade-batch table and :data:`JOB_SCRIPT`, the job script :mod:`.job`), :mod:`.results`, :mod:`.batch` (yade-batch runs),
-:mod:`.slurm`, :mod:`.errors` and :mod:`.cli` (``__main__``).
+:mod:`.beds` (the cached dry beds), :mod:`.trial` (one settling case inside YADE),
+:mod:`.drum_trial` (one drum case), :mod:`.table` (the yade-batch table and :data:`JOB_SCRIPT`, the
+job script :mod:`.job`), :mod:`.results`, :mod:`.batch` (yade-batch runs), :mod:`.slurm`,
+:mod:`.errors` and :mod:`.cli` (``__main__``).
 """
 from .. import _registry, criteria  # noqa: F401  (names of this module before the split)
 from ..measures import period_two_ringing  # noqa: F401  (its name here before measures.py)
