@@ -19,7 +19,7 @@ import math
 from . import _checks
 
 __all__ = ['set_film', 'add', 'film', 'total', 'in_films', 'in_bridge', 'in_bridges', 'distribution', 'Distribution',
-           'spray', 'Spray', 'make_dry']
+           'spray', 'Spray', 'make_dry', 'sprayed']
 
 
 def _ids(func, ids, spheres_only=True):
@@ -231,3 +231,8 @@ def make_dry(ids=None, material=None):
     for i in ids:
         yw.ViscBridgeState.of(O.bodies[i]).wettable = False
     return ids
+
+
+def sprayed():
+    """The liquid that sprays have put into the films so far [m³]."""
+    return math.fsum(s.delivered for s in _SPRAYS)

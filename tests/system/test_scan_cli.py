@@ -1,7 +1,8 @@
 """The scan's command line and its runs (``python3 -m viscbridge.scan``, separate processes): errors,
-tables, help, the yade-batch route and its results, a failing case, and Ctrl-C / SIGTERM stopping
-yade-batch with its jobs and resuming."""
+tables, help, the yade-batch route and its results, a failing case, Ctrl-C / SIGTERM stopping
+yade-batch with its jobs and resuming, and a scan of drum cases."""
 import argparse
+import csv
 import json
 import os
 import pathlib
@@ -214,3 +215,51 @@ def test_an_interrupted_scan_resumes_without_repeating_finished_cases(tmp_path):
     assert len(open(tmp_path / 'cases.table').read().splitlines()[1:]) == 3
     sbatch = open(scan.slurm_script(str(tmp_path))).read()
     assert '#SBATCH --array=2-4' in sbatch and str(tmp_path / 'cases.table') in sbatch
+
+
+# --- drum cases -----------------------------------------------------------------------------------
+
+TINY_DRUM = dict(kind='drum', n=40, drumRadius=0.01, length=0.006, revolutions=0.05, viscosity=5.0)
+
+
+def test_help_lists_the_drum_fields():
+    status, out, err = scan_cli('run', '--help')
+    assert status == 0 and '--kind' in out
+    for name, default in scan.DRUM_DEFAULTS.items():
+        shown = '%g' % default if isinstance(default, float) else str(default)
+        unit = scan.DRUM_FIELDS[name].unit or '-'
+        assert re.search(r'^  %s +%s +%s +\S' % (name, re.escape(shown), re.escape(unit)), out, re.M), name
+
+
+def test_a_drum_scan_runs_in_parallel_records_each_case_and_resumes(tmp_path):
+    """Two tiny drums (40 spheres, 0.05 revolution) at 5 and 50 Pa·s through yade-batch, 2 at a time:
+    each case's result holds its final agglomerate measures, the same as the last row of the
+    history it leaves in case-KEY/; run again, nothing runs; the histories compare by viscosity."""
+    base = {k: v for k, v in TINY_DRUM.items() if k != 'kind'}
+    cli = ['run', str(tmp_path), '--kind', 'drum', '-j', '2', '--base', *assignments(base), '--vary', 'viscosity=5,50']
+    status, out, err = scan_cli(*cli)
+    assert status == 0, err
+    assert 'scan: 2 cases, 0 already done, 2 to run' in err
+    rows = {float(r['viscosity']): r for r in csv.DictReader(open(tmp_path / 'results.csv'))}
+    assert sorted(rows) == [5.0, 50.0]
+    for r in rows.values():
+        assert r['kind'] == 'drum' and int(r['spheres']) == 40 and float(r['revolutions']) == 0.05
+        granules, agglomerates = int(r['granules']), int(r['agglomerates'])
+        assert 0 < granules <= agglomerates < 40  # bridges formed between the 6 wet spheres and their neighbours
+        assert 2 <= float(r['granule_d50']) <= int(r['largest']) and 0 < float(r['granulated_mass_fraction']) < 1
+        assert float(r['t_end']) == pytest.approx(0.05 * float(r['period']), rel=1e-3)
+        history = list(csv.DictReader(open(tmp_path / r['history'])))
+        assert len(history) >= 0.05 * 16 + 1 and float(history[-1]['revolutions']) == pytest.approx(0.05, rel=1e-3)
+        for column in ('agglomerates', 'granules', 'largest', 'granulated_mass_fraction', 'coordination', 'liquid_cov'):
+            assert float(history[-1][column]) == pytest.approx(float(r[column])), column
+        assert 'sprayRate' not in r  # not offered until the drum sprays
+    status, out, err = scan_cli(*cli)
+    assert status == 0 and 'scan: 2 cases, 2 already done, 0 to run' in err, err
+    assert len(results_of(tmp_path)) == 2
+    from viscbridge.analysis.comparison import read_run, run_labels
+    runs = [read_run(str(tmp_path / os.path.dirname(rows[mu]['history']))) for mu in (5.0, 50.0)]
+    assert run_labels(runs) == ['viscosity = 5 Pa·s', 'viscosity = 50 Pa·s']
+    figure = tmp_path / 'cmp.png'
+    p = subprocess.run([sys.executable, '-m', 'viscbridge.analysis', 'compare', *sorted(str(p) for p in tmp_path.glob('case-*/')),
+                        '-o', str(figure)], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0 and figure.read_bytes()[:8] == b'\x89PNG\r\n\x1a\n', p.stderr

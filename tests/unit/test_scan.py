@@ -124,3 +124,81 @@ def test_a_signal_after_the_batch_ended_is_reported_not_fatal(tmp_path, sig):
     proc = subprocess.run([sys.executable, '-c', snippet, str(tmp_path / 'scan')], capture_output=True, text=True, timeout=60)
     assert proc.returncode == 130, (proc.returncode, proc.stderr)
     assert 'scan: interrupted' in proc.stderr and 'Traceback' not in proc.stderr
+
+
+# --- drum cases -----------------------------------------------------------------------------------
+
+DRUM = dict(kind='drum')
+
+
+def test_a_drum_case_has_its_own_fields_defaults_and_key():
+    c = scan.normalize_case(dict(DRUM, viscosity=5, n=40.0))
+    assert c['kind'] == 'drum' and set(c) == {'kind'} | set(scan.DRUM_DEFAULTS)
+    assert (type(c['viscosity']), type(c['n']), c['revolutions']) == (float, int, scan.DRUM_DEFAULTS['revolutions'])
+    assert 'steps' not in c and 'sMinRel' not in c  # a settling trial's fields are not a drum's
+    assert scan.case_key(c) == scan.case_key(dict(DRUM, viscosity=5.0, n=40))
+    # drum and settling cases with the same values never share a key (resuming compares keys)
+    assert scan.case_key(DRUM) != scan.case_key({}) == scan.case_key(dict(kind='settling')) == '9e1baa0e9261c915'
+    assert 'kind' not in scan.normalize_case(dict(kind='settling'))  # settling cases stay as they were
+    assert set(scan.DRUM_FIELDS) == set(scan.DRUM_DEFAULTS)
+
+
+def test_drum_cases_vary_one_field_at_a_time_or_on_a_grid():
+    cases = scan.one_at_a_time(dict(DRUM, viscosity=5.0), viscosity=[5, 50], rpm=[30])
+    assert [(c['viscosity'], c['rpm']) for c in cases] == [(5.0, 0.0), (50.0, 0.0), (5.0, 30.0)]
+    assert all(c['kind'] == 'drum' for c in cases)
+    assert len(scan.grid(DRUM, viscosity=[5, 50], wetFraction=[0.1, 0.2])) == 4
+    with pytest.raises(ValueError, match='kind cannot be varied'):
+        scan.one_at_a_time({}, kind=['settling', 'drum'])
+    with pytest.raises(ValueError, match=r'unknown field\(s\) steps of a drum case'):
+        scan.grid(DRUM, steps=[10])
+
+
+@pytest.mark.parametrize('field, value', [
+    ('n', 0), ('radius', 0.0), ('drumRadius', -1.0), ('froude', 0.0), ('froude', 1.5), ('rpm', -1.0),
+    ('viscosity', -1.0), ('wetFraction', 1.5), ('filmRel', -0.1), ('minBridgeRel', 2.0), ('revolutions', 0.0),
+    ('liquidModel', 'spray'), ('integration', 'semi'), ('segments', 4), ('wallFriction', 2.0), ('seed', 1.5)])
+def test_drum_values_out_of_range_are_rejected_naming_the_field(field, value):
+    with pytest.raises(ValueError, match=r'scan case: %s=.* is out of range; allowed: ' % field):
+        scan.normalize_case(dict(DRUM, **{field: value}))
+
+
+def test_drum_fields_are_checked_together_before_anything_runs():
+    with pytest.raises(ValueError, match='froude=0.1 and rpm=30.0 both set the drum speed'):
+        scan.normalize_case(dict(DRUM, froude=0.1, rpm=30))
+    with pytest.raises(ValueError, match='drumRadius=0.004 and length=0.01 .* at least 5 and 4 sphere radii'):
+        scan.normalize_case(dict(DRUM, drumRadius=0.004))
+    with pytest.raises(ValueError, match="kind='box' is not a known kind; allowed: 'settling', 'drum'"):
+        scan.normalize_case(dict(kind='box'))
+
+
+def test_a_drum_case_gives_the_drum_its_parameters_and_one_speed():
+    args = scan.drum_arguments(dict(DRUM, viscosity=50, n=60))
+    assert args['viscosity'] == 50.0 and args['n'] == 60 and args['froude'] == 0.05
+    assert 'rpm' not in args and 'revolutions' not in args and 'kind' not in args
+    by_rpm = scan.drum_arguments(dict(DRUM, rpm=30))
+    assert by_rpm['rpm'] == 30.0 and 'froude' not in by_rpm
+    with pytest.raises(ValueError, match="drum_arguments: the case's kind='settling' is out of range"):
+        scan.drum_arguments({})
+
+
+def test_a_table_holds_cases_of_one_kind_with_their_columns(tmp_path):
+    settling = open(scan.write_table([{}], str(tmp_path / 'settling.table'), str(tmp_path))).read().splitlines()
+    assert settling[0].split() == ['description'] + list(scan.CASE_DEFAULTS) + ['scanDir']  # as before drums
+    drum = open(scan.write_table(scan.one_at_a_time(dict(DRUM, viscosity=5.0), viscosity=[50]),
+                                 str(tmp_path / 'drum.table'), str(tmp_path))).read().splitlines()
+    assert drum[0].split() == ['description', 'kind'] + list(scan.DRUM_DEFAULTS) + ['scanDir'] and len(drum) == 3
+    assert drum[1].split()[1] == "'drum'"
+    with pytest.raises(ValueError, match='cases of one kind; got drum and settling'):
+        scan.write_table([{}, DRUM], str(tmp_path / 'mixed.table'), str(tmp_path))
+    assert not (tmp_path / 'mixed.table').exists()
+
+
+def test_the_command_line_takes_a_kind_and_lists_its_fields(tmp_path, capsys):
+    assert scan.main(['table', str(tmp_path), '--kind', 'drum', '--base', 'n=40', '--vary', 'viscosity=5,50']) == 0
+    lines = (tmp_path / 'cases.table').read_text().splitlines()
+    assert len(lines) == 1 + 3 and all(" 'drum' 40 " in line for line in lines[1:])
+    assert scan.main(['table', str(tmp_path / 'x'), '--kind', 'drum', '--base', 'kind=settling']) == 1
+    assert '--kind drum and --base kind=settling disagree' in capsys.readouterr().err
+    help_text = scan.fields_help()
+    assert 'drum case fields (--kind drum' in help_text and 'revolutions' in help_text and 'steps' in help_text

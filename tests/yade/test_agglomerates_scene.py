@@ -110,3 +110,44 @@ def test_the_history_counts_the_breakage_and_leaves_the_users_names_alone(tmp_pa
     assert __main__.h == 'the user name'
     assert sum(r['broken'] for r in history.rows) == 1 and sum(r['merged'] for r in history.rows) == 0
     assert history.rows[-1]['agglomerates'] == 2
+
+
+def test_the_history_counts_granules_apart_from_single_spheres_and_the_liquid_sprayed(tmp_path):
+    """Three bridged spheres, the last pulled off: before, one granule holds all the mass; after, a pair
+    holds two thirds and the pulled sphere is a single one — an agglomerate, not a granule.  A spray
+    over the spheres meanwhile: each row has the liquid it had put in by then."""
+    import viscbridge.liquid as liquid
+    from viscbridge.analysis.agglomerate_history import AgglomerateHistory
+    a, b, c = row_of_three()
+    before = liquid.sprayed()  # sprays of earlier tests in this process count too
+    history = AgglomerateHistory(str(tmp_path / 'a.csv'), period=1e-3)
+    O.engines = O.engines + [liquid.spray(rate=1e-9, box=((-R, -R, -R), (5 * R, R, R)), iterPeriod=10)]
+    spray = liquid.sprays()[-1]
+    whole = history.record()
+    assert (whole['agglomerates'], whole['granules'], whole['largest'], whole['granule_d50']) == (1, 1, 3, 3)
+    assert whole['granulated_mass_fraction'] == pytest.approx(1.0) and whole['d50'] == 3
+    O.bodies[c].state.vel = (0.1, 0, 0)
+    while any(i.isReal and i.phys.bridge for i in O.interactions if c in (i.id1, i.id2)):
+        O.run(100, True)
+    split = history.record()
+    assert (split['agglomerates'], split['granules'], split['largest'], split['granule_d50']) == (2, 1, 2, 2)
+    assert split['granulated_mass_fraction'] == pytest.approx(2 / 3) and split['broken'] == 1
+    assert split['revolutions'] == pytest.approx(O.time / 1e-3)
+    assert spray.delivered > 0 and split['liquid_sprayed'] - before == pytest.approx(spray.delivered, rel=1e-12)
+    assert 0 <= whole['liquid_sprayed'] - before < spray.delivered
+
+
+def test_a_record_by_hand_restarts_the_recorders_period(tmp_path):
+    """A run stops before its recorder's turn at its last step: the row of the end is taken by hand
+    (as the drum example does after every quarter revolution), and the recorder must not log that
+    moment again when the next run starts."""
+    from viscbridge.analysis.agglomerate_history import AgglomerateHistory
+    row_of_three()
+    history = AgglomerateHistory(str(tmp_path / 'a.csv'))
+    O.engines = O.engines + [history.recorder(iterPeriod=100)]
+    start = O.iter
+    O.run(200, True)
+    history.record()
+    O.run(150, True)
+    assert [r['iter'] - start for r in history.rows] == [0, 100, 200, 300]
+    assert len(open(history.csv_path).read().splitlines()) == 1 + 4

@@ -1,5 +1,6 @@
 """The drum scene: a turning facet cylinder with a wet bed; dry walls by default, conserved liquid,
 the guard and the stepper with a moving boundary whose work enters the energy balance."""
+import json
 import math
 
 import pytest
@@ -26,7 +27,7 @@ def test_the_drum_turns_the_bed_cascades_and_the_liquid_is_kept(tmp_path):
     assert len(d.spheres) == 60 and len(d.facets) == 64  # 32 segments of two triangles
     put_in = liquid.total()
     assert put_in > 0 and sum(1 for i in d.spheres if liquid.film(i) > 0) == 9  # 15 % wetted
-    history = AgglomerateHistory(str(tmp_path / 'a.csv'))
+    history = AgglomerateHistory(str(tmp_path / 'a.csv'), drum=d)
     O.engines = O.engines + [history.recorder(virtPeriod=d.period / 20)]
     facet = O.bodies[d.facets[0]].state
     before = math.atan2(facet.pos[0], facet.pos[2])
@@ -44,7 +45,15 @@ def test_the_drum_turns_the_bed_cascades_and_the_liquid_is_kept(tmp_path):
     assert 3 < angle < 60, angle
     rows = open(history.csv_path).read().splitlines()
     assert rows[0] == ','.join(COLUMNS) and len(rows) >= 10
-    assert history.rows[-1]["agglomerates"] < 60 and history.rows[0]["agglomerates"] == 60
+    first, last = history.rows[0], history.rows[-1]
+    assert first['agglomerates'] == 60 and first['granules'] == 0 and first['granulated_mass_fraction'] == 0
+    assert last['agglomerates'] < 60 and 0 < last['granules'] <= 60 - last['agglomerates']
+    assert d.revolutions() - 1 / 20 - 1e-3 < last['revolutions'] <= d.revolutions()  # recorded every 1/20 revolution
+    assert [r['revolutions'] for r in history.rows] == pytest.approx([r['t'] / d.period for r in history.rows])
+    # the sidecar beside the CSV: the drum's parameters with their units, for comparing runs
+    side = json.load(open(tmp_path / 'a.json'))
+    assert side['params'] == d.params and side['period'] == pytest.approx(d.period)
+    assert side['params']['viscosity'] == 1.0 and side['units']['viscosity'] == 'Pa·s' and side['units']['rpm'] == '1/min'
     png = history.plot(str(tmp_path / 'a.png'))
     assert open(png, 'rb').read(8) == b'\x89PNG\r\n\x1a\n'
 

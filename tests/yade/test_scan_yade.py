@@ -59,3 +59,20 @@ def test_a_case_with_a_tolerance_reports_the_accuracy_run(bed_dir):
     assert r['accuracy_unstable'] == ''
     assert 0 < r['accuracy_steps'] < TINY['steps'] / 4, r['accuracy_steps']
     assert 0 < r['accuracy_error_estimate'] < 1 and r['accuracy_seconds'] > 0  # an estimate, reported
+
+
+def test_drum_fields_are_those_of_scenes_drum():
+    """A drum case's defaults and units are scenes.drum's (its size aside: the scan fixes n and the
+    drum instead of deriving them from fill), and every argument a case gives it is one it takes."""
+    import importlib
+    import inspect
+    drum_module = importlib.import_module('viscbridge.scenes.drum')  # viscbridge.scenes.drum is the function
+    signature = inspect.signature(drum_module.drum).parameters
+    for name, default in scan.DRUM_DEFAULTS.items():
+        assert scan.DRUM_FIELDS[name].unit == drum_module.UNITS.get(name, ''), name
+        if name not in ('n', 'drumRadius', 'length', 'rpm', 'revolutions', 'bridgeVolumeRel'):
+            assert signature[name].default == default, name
+    import yade.wrapper as yw
+    assert scan.DRUM_DEFAULTS['bridgeVolumeRel'] == yw.Ip2_FrictMat_FrictMat_ViscBridgePhys().bridgeVolumeRel
+    for case in (dict(kind='drum'), dict(kind='drum', rpm=30)):
+        assert set(scan.drum_arguments(case)) <= set(signature) | {'bridgeVolumeRel'}

@@ -2,6 +2,10 @@
 (:data:`CASE_DEFAULTS`, :data:`CASE_FIELDS`; the liquid fields' ranges and model names from the C++
 registry), checking and normalising a case, its key (what resuming compares), and the sets of cases
 a scan runs (one field at a time, or a grid).  Plain Python.
+
+A case is of one of the :data:`KINDS`: 'settling' (the critical Δt of a wetted bed; a case without a
+``kind`` field is one, as every case was before drums) or 'drum' (a granulation drum turned for some
+revolutions, :data:`DRUM_DEFAULTS`, :data:`DRUM_FIELDS`; its case carries ``kind='drum'``).
 """
 import collections
 import hashlib
@@ -13,8 +17,8 @@ import sys
 
 from .. import _registry
 
-__all__ = ['CASE_DEFAULTS', 'CASE_FIELDS', 'Field', 'Interval', 'normalize_case', 'case_key', 'unique_cases',
-           'one_at_a_time', 'grid']
+__all__ = ['CASE_DEFAULTS', 'CASE_FIELDS', 'DRUM_DEFAULTS', 'DRUM_FIELDS', 'KINDS', 'Kind', 'Field', 'Interval',
+           'kind_of', 'normalize_case', 'case_key', 'unique_cases', 'one_at_a_time', 'grid']
 
 #: Every field a case can set, with its default.  Liquid/model fields go to
 #: Ip2_FrictMat_FrictMat_ViscBridgePhys; the rest describe the bed and the trial.
@@ -99,16 +103,83 @@ CASE_FIELDS = dict(
 )
 
 
+#: Every field of a drum case (kind='drum'), with its default: the parameters of
+#: :func:`viscbridge.scenes.drum` (its defaults, except the size: 300 spheres in a 15 mm drum) and the
+#: revolutions it turns.  A case's result holds the final agglomerate measures (scan/drum_trial.py).
+DRUM_DEFAULTS = dict(
+    n=300, radius=1e-3, drumRadius=15e-3, length=10e-3, density=2500.0, young=1e7, poisson=0.3, friction=0.5,
+    wallFriction=0.8, segments=32, seed=1, froude=0.05, rpm=0.0, viscosity=1.0, liquidModel='film', wetFraction=0.15,
+    filmRel=0.02, minBridgeRel=0.002, bridgeVolumeRel=0.01, integration='implicit', revolutions=1.0,
+    # sprayRate [m³/s] goes here once scenes.drum sprays binder (with its Field below and its argument in
+    # drum_trial.drum_arguments), and into _DRUM_KEY_OMITS_AT_DEFAULT, so that drum scans run before it resume.
+)
+# Fields added to drum cases after drum scans were run: left out of a case's key while at their default.
+_DRUM_KEY_OMITS_AT_DEFAULT = ()
+_DRUM_LIQUID_KEYS = ('viscosity', 'bridgeVolumeRel')
+
+#: Unit, meaning and allowed values of every field of DRUM_DEFAULTS (the ranges scenes.drum accepts).
+DRUM_FIELDS = dict(
+    n=Field('', 'number of spheres', Interval(1)),
+    radius=Field('m', 'sphere radius (each sphere up to 10 % smaller)', Interval(0, lo_open=True)),
+    drumRadius=Field('m', 'inner radius of the drum (at least 5 sphere radii)', Interval(0, lo_open=True)),
+    length=Field('m', 'length of the drum between its flat end walls (at least 4 sphere radii)', Interval(0, lo_open=True)),
+    density=CASE_FIELDS['density'],
+    young=CASE_FIELDS['young'],
+    poisson=CASE_FIELDS['poisson'],
+    friction=Field('rad', 'friction angle between spheres', Interval(0)),
+    wallFriction=Field('rad', 'friction angle of the drum wall', Interval(0, math.pi / 2)),
+    segments=Field('', 'facet segments around the drum (two triangles each)', Interval(8)),
+    seed=Field('', 'random seed of the bed and of the wetted spheres', Interval()),
+    froude=Field('', 'drum speed as the Froude number ω²R/g (used when rpm is 0)', Interval(0, 1, lo_open=True)),
+    rpm=Field('1/min', 'drum speed in revolutions per minute; 0: set by froude', Interval(0)),
+    viscosity=Field('Pa·s', 'binder viscosity (0: dry)', _ip2_range('viscosity')),
+    liquidModel=Field('', "'film': conserved liquid taken from the wetted spheres' films; 'fixed': every contact a "
+                          "bridge", ('film', 'fixed')),
+    wetFraction=Field('', "fraction of the spheres that carry a film (liquidModel 'film')", Interval(0, 1)),
+    filmRel=Field('', 'film of a wetted sphere over its volume', Interval(0, 1)),
+    minBridgeRel=Field('', 'the least liquid a bridge forms from, over a sphere volume', Interval(0, 1)),
+    bridgeVolumeRel=Field('', 'largest bridge volume over the mean particle volume', _ip2_range('bridgeVolumeRel')),
+    integration=Field('', 'time integration of the viscous forces', _registry.INTEGRATIONS),
+    revolutions=Field('', 'revolutions the drum turns', Interval(0, lo_open=True)),
+)
+
+
+class Kind(collections.namedtuple('Kind', 'defaults fields key_omits_at_default liquid_keys meaning')):
+    """A kind of case: its fields' defaults and descriptions, the fields left out of its key at their
+    default, the fields the C++ Ip2 checks, and what its cases do (for --help)."""
+
+
+#: The kinds of case, by the value of a case's ``kind`` field (absent: 'settling').
+KINDS = dict(
+    settling=Kind(CASE_DEFAULTS, CASE_FIELDS, _KEY_OMITS_AT_DEFAULT, _LIQUID_KEYS,
+                  'the critical time step of a wetted bed, by bisection (results: dt_critical, ...)'),
+    drum=Kind(DRUM_DEFAULTS, DRUM_FIELDS, _DRUM_KEY_OMITS_AT_DEFAULT, _DRUM_LIQUID_KEYS,
+              'a granulation drum (viscbridge.scenes.drum) turned for `revolutions` (results: the final agglomerates, '
+              'granules, granulated_mass_fraction, granule_d50, largest, coordination, liquid_cov, ...)'),
+)
+
+
+def kind_of(case):
+    """The kind of a case: its ``kind`` field, 'settling' without one; ValueError for an unknown kind."""
+    kind = case.get('kind', 'settling')
+    if not isinstance(kind, str) or kind not in KINDS:
+        raise ValueError('scan case: kind=%r is not a known kind; allowed: %s' % (kind, ', '.join(repr(k) for k in KINDS)))
+    return kind
+
+
 def _describe(case):
-    """The fields of a case that differ from the defaults, as FIELD=VALUE."""
-    changed = ['%s=%r' % (k, v) for k, v in case.items() if v != CASE_DEFAULTS[k]]
+    """The fields of a case that differ from the defaults of its kind, as FIELD=VALUE."""
+    defaults = KINDS[kind_of(case)].defaults
+    changed = ['%s=%r' % (k, v) for k, v in case.items() if k not in defaults or v != defaults[k]]
     return ' '.join(changed) or '(defaults)'
 
 
-def _check_known(fields):
-    unknown = set(fields) - set(CASE_DEFAULTS)
+def _check_known(fields, kind='settling'):
+    defaults = KINDS[kind].defaults
+    unknown = set(fields) - set(defaults) - {'kind'}
     if unknown:
-        raise ValueError('scan case: unknown field(s) %s; allowed: %s' % (', '.join(sorted(unknown)), ', '.join(CASE_DEFAULTS)))
+        raise ValueError('scan case: unknown field(s) %s%s; allowed: %s' % (
+            ', '.join(sorted(unknown)), '' if kind == 'settling' else ' of a %s case' % kind, ', '.join(defaults)))
 
 
 def _number(value, kind):
@@ -127,26 +198,38 @@ def _number(value, kind):
     return x
 
 
-def _allowed(name):
-    """What field `name` accepts, in words (without the unit)."""
-    allowed = CASE_FIELDS[name].allowed
+def _allowed(name, kind='settling'):
+    """What field `name` of a case of `kind` accepts, in words (without the unit)."""
+    spec = KINDS[kind]
+    allowed = spec.fields[name].allowed
     if not isinstance(allowed, Interval):
         return ', '.join(repr(a) for a in allowed)
-    kind = 'an integer' if isinstance(CASE_DEFAULTS[name], int) else 'a number'
-    return kind if allowed == Interval() else '%s %s' % (kind, allowed)
+    what = 'an integer' if isinstance(spec.defaults[name], int) else 'a number'
+    return what if allowed == Interval() else '%s %s' % (what, allowed)
 
 
-def _checked(name, value):
+def _checked(name, value, kind='settling'):
     """value of field `name` converted to its default's type (so that 1 and 1.0 are one case), or ValueError."""
-    field = CASE_FIELDS[name]
+    spec = KINDS[kind]
+    field = spec.fields[name]
     if isinstance(field.allowed, Interval):
-        x = _number(value, type(CASE_DEFAULTS[name]))
+        x = _number(value, type(spec.defaults[name]))
         if x is not None and x in field.allowed:
             return x
     elif isinstance(value, str) and value in field.allowed:
         return value
     unit = ' [%s]' % field.unit if field.unit else ''
-    raise ValueError('scan case: %s=%r is out of range; allowed: %s%s' % (name, value, _allowed(name), unit))
+    raise ValueError('scan case: %s=%r is out of range; allowed: %s%s' % (name, value, _allowed(name, kind), unit))
+
+
+def _check_drum(case):
+    """What scenes.drum checks between fields, before anything runs (ValueError naming the fields)."""
+    if case['drumRadius'] < 5 * case['radius'] or case['length'] < 4 * case['radius']:
+        raise ValueError('scan case: drumRadius=%r and length=%r [m] are out of range; allowed: at least 5 and 4 sphere '
+                         'radii (radius=%r m)' % (case['drumRadius'], case['length'], case['radius']))
+    if case['rpm'] > 0 and case['froude'] != DRUM_DEFAULTS['froude']:
+        raise ValueError('scan case: froude=%r and rpm=%r both set the drum speed; allowed: one of them (rpm=0 for froude)'
+                         % (case['froude'], case['rpm']))
 
 
 def _check_with_ip2(case):
@@ -155,14 +238,21 @@ def _check_with_ip2(case):
     wrapper = sys.modules.get('yade.wrapper')
     ip2 = getattr(wrapper, 'Ip2_FrictMat_FrictMat_ViscBridgePhys', None)
     if ip2 is not None:
-        ip2(**{k: case[k] for k in _LIQUID_KEYS})
+        ip2(**{k: case[k] for k in KINDS[kind_of(case)].liquid_keys})
 
 
 def normalize_case(case):
-    """The case with defaults filled in and every value of its default's type; ValueError naming
-    the field on unknown fields and on values out of range."""
-    _check_known(case)
-    out = {name: _checked(name, value) for name, value in dict(CASE_DEFAULTS, **case).items()}
+    """The case with the defaults of its kind filled in and every value of its default's type;
+    ValueError naming the field on unknown fields and on values out of range.  A settling case has
+    no ``kind`` field (as before drums), a drum case has kind='drum'."""
+    kind = kind_of(case)
+    spec = KINDS[kind]
+    fields = {k: v for k, v in case.items() if k != 'kind'}
+    _check_known(fields, kind)
+    out = {name: _checked(name, value, kind) for name, value in dict(spec.defaults, **fields).items()}
+    if kind == 'drum':
+        out = dict(kind=kind, **out)
+        _check_drum(out)
     _check_with_ip2(out)
     return out
 
@@ -170,8 +260,9 @@ def normalize_case(case):
 def case_key(case):
     """A stable identifier of a (normalized) case: what resuming compares."""
     c = normalize_case(case)
-    text = json.dumps({k: v for k, v in c.items() if not (k in _KEY_OMITS_AT_DEFAULT and v == CASE_DEFAULTS[k])}, sort_keys=True)
-    return hashlib.sha1(text.encode()).hexdigest()[:16]
+    spec = KINDS[kind_of(c)]
+    kept = {k: v for k, v in c.items() if not (k in spec.key_omits_at_default and v == spec.defaults[k])}
+    return hashlib.sha1(json.dumps(kept, sort_keys=True).encode()).hexdigest()[:16]
 
 
 def unique_cases(cases):
@@ -183,16 +274,25 @@ def unique_cases(cases):
     return list(out.values())
 
 
+def _axes_of(base, variations):
+    """The kind of `base` and `variations` checked against its fields (the kind itself cannot vary)."""
+    kind = kind_of(base)
+    if 'kind' in variations:
+        raise ValueError('scan case: kind cannot be varied; a scan runs cases of one kind (--kind)')
+    _check_known(variations, kind)
+    return kind
+
+
 def one_at_a_time(base, **variations):
     """The base case, then each listed value of each field with the others at the base values."""
-    _check_known(variations)
+    _axes_of(base, variations)
     base = normalize_case(base)
     return unique_cases([base] + [dict(base, **{field: v}) for field, values in variations.items() for v in values])
 
 
 def grid(base=None, **axes):
     """The cartesian product of the listed values (other fields from `base`)."""
-    _check_known(axes)
+    _axes_of(base or {}, axes)
     base = normalize_case(base or {})
     names = list(axes)
     return unique_cases(dict(base, **dict(zip(names, values))) for values in itertools.product(*(axes[n] for n in names)))

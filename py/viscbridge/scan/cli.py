@@ -1,6 +1,7 @@
 """The command line of a scan (``python3 -m viscbridge.scan COMMAND DIR ...``): its parser, with the
-case fields in ``--help``, the commands run, table, collect and slurm, and exit codes (0; 1 with a
-one-line error; 130 when interrupted).  Plain Python (the cases run in yade-batch's processes).
+case fields of every kind in ``--help``, the commands run, table, collect and slurm (run and table
+take ``--kind settling`` or ``--kind drum``), and exit codes (0; 1 with a one-line error; 130 when
+interrupted).  Plain Python (the cases run in yade-batch's processes).
 """
 import argparse
 import json
@@ -8,7 +9,7 @@ import os
 import sys
 
 from .batch import interruptible, run_cases
-from .cases import CASE_DEFAULTS, CASE_FIELDS, _allowed, grid, one_at_a_time
+from .cases import KINDS, _allowed, grid, one_at_a_time
 from .errors import ScanError
 from .results import collect
 from .slurm import slurm_script
@@ -36,21 +37,31 @@ def _parse_assignments(items, lists):
 
 def _cases_from_args(args):
     base = _parse_assignments(args.base, lists=False)
+    kind = getattr(args, 'kind', None)
+    if kind is not None:
+        if base.get('kind', kind) != kind:
+            raise ValueError('--kind %s and --base kind=%s disagree; allowed: one kind' % (kind, base['kind']))
+        base['kind'] = kind
     variations = _parse_assignments(args.vary, lists=True)
     if args.grid:
         return grid(base, **variations)
     return one_at_a_time(base, **variations)
 
 
-def fields_help():
-    """The list of case fields of --help: name, default, unit, meaning and allowed values."""
-    lines = ['case fields (FIELD=VALUE; the unit is SI, "-" for none):',
-             '  %-16s %-14s %-6s %s' % ('FIELD', 'DEFAULT', 'UNIT', 'MEANING; ALLOWED')]
-    for name, default in CASE_DEFAULTS.items():
-        shown = '%g' % default if isinstance(default, float) else str(default)
-        field = CASE_FIELDS[name]
-        lines.append('  %-16s %-14s %-6s %s; %s' % (name, shown, field.unit or '-', field.meaning, _allowed(name)))
-    return '\n'.join(lines)
+def fields_help(kinds=tuple(KINDS)):
+    """The list of case fields of --help, for each of `kinds`: name, default, unit, meaning and
+    allowed values."""
+    blocks = []
+    for kind in kinds:
+        spec = KINDS[kind]
+        lines = ['%s case fields (--kind %s: %s; FIELD=VALUE, the unit is SI, "-" for none):' % (kind, kind, spec.meaning),
+                 '  %-16s %-14s %-6s %s' % ('FIELD', 'DEFAULT', 'UNIT', 'MEANING; ALLOWED')]
+        for name, default in spec.defaults.items():
+            shown = '%g' % default if isinstance(default, float) else str(default)
+            field = spec.fields[name]
+            lines.append('  %-16s %-14s %-6s %s; %s' % (name, shown, field.unit or '-', field.meaning, _allowed(name, kind)))
+        blocks.append('\n'.join(lines))
+    return '\n\n'.join(blocks)
 
 
 _COMMANDS = dict(
@@ -81,6 +92,9 @@ def build_parser():
 
 
 def _add_case_options(parser):
+    parser.add_argument('--kind', choices=tuple(KINDS), default=None,
+                        help="the kind of the scan's cases (default: settling): %s" % '; '.join(
+                            '%s, %s' % (k, spec.meaning) for k, spec in KINDS.items()))
     parser.add_argument('--base', nargs='*', action='extend', metavar='FIELD=VALUE',
                         help='fields of the base case (the others at their defaults)')
     parser.add_argument('--vary', nargs='*', action='extend', metavar='FIELD=V1,V2',

@@ -19,20 +19,32 @@ from yade import Quaternion
 import yade.wrapper as yw
 from yade import geom
 
-from .. import _checks, liquid
+from .. import _checks, _registry, liquid
 from ..engine_list import bridge_parameters, engines
 
-__all__ = ['drum', 'Drum']
+__all__ = ['drum', 'Drum', 'UNITS']
 
 G = 9.81
 
+#: The unit of each parameter of :func:`drum` ('' for a number without unit or a name); the Ip2's
+#: parameters passed through take theirs from the C++ table (``_registry.PARAMETERS``).
+UNITS = dict(radius='m', drumRadius='m', length='m', fill='', n='', froude='', rpm='1/min', viscosity='Pa·s',
+             liquidModel='', wetFraction='', filmRel='', minBridgeRel='', wetWalls='', integration='',
+             density='kg/m³', young='Pa', poisson='', friction='rad', wallFriction='rad', segments='', seed='')
+
 
 class Drum:
-    """A drum scene living in O (see :func:`drum`): ``params``, ``omega`` [rad/s], ``spheres`` and
-    ``facets`` (body ids), ``rotation`` (its RotationEngine)."""
+    """A drum scene living in O (see :func:`drum`): ``params`` (every parameter it was built with,
+    the speed as both ``froude`` and ``rpm``), ``units`` (their units), ``omega`` [rad/s],
+    ``spheres`` and ``facets`` (body ids), ``rotation`` (its RotationEngine)."""
 
     def __init__(self, params, omega, spheres, facets, rotation):
         self.params, self.omega, self.spheres, self.facets, self.rotation = params, omega, spheres, facets, rotation
+
+    @property
+    def units(self):
+        """The unit of each of ``params`` ('' for none): what a record of the run writes beside it."""
+        return {k: UNITS[k] if k in UNITS else _registry.PARAMETERS.get(k, {}).get('unit', '') for k in self.params}
 
     @property
     def period(self):
@@ -129,7 +141,8 @@ def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.
         liquid.set_film(wet, [filmRel * 4 / 3 * math.pi * O.bodies[i].shape.radius ** 3 for i in wet])
     params = dict(radius=radius, drumRadius=drumRadius, length=length, fill=fill, n=n, froude=froude,
                   rpm=omega * 60 / (2 * math.pi), viscosity=viscosity, liquidModel=liquidModel, wetFraction=wetFraction,
-                  filmRel=filmRel, minBridgeRel=minBridgeRel, wetWalls=wetWalls, integration=integration, seed=seed)
+                  filmRel=filmRel, minBridgeRel=minBridgeRel, wetWalls=wetWalls, integration=integration, density=density,
+                  young=young, poisson=poisson, friction=friction, wallFriction=wallFriction, segments=segments, seed=seed)
     params.update(ip2_args)
     return Drum(params, omega, spheres, facets, rotation)
 
