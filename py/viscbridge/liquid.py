@@ -7,7 +7,7 @@ particles carry liquid, takes its volume from their films and gives it back when
     import viscbridge, viscbridge.liquid as liquid
     O.engines = viscbridge.engines(viscosity=10, liquidModel='film', bridgeVolumeRel=0.02)
     liquid.set_film(spheres, 0.01 * particle_volume)   # before or between runs
-    O.engines += [liquid.spray(rate=1e-9, box=((0, 0, 0.01), (0.02, 0.02, 0.02)), end=0.5)]
+    O.engines += [liquid.spray(rate=1e-9, box=((0, 0, 0), (0.02, 0.02, 0.02)), end=0.5)]  # onto the bed's top
     O.run(10000, True)
     liquid.total(), liquid.distribution().cov
 
@@ -19,7 +19,7 @@ import math
 from . import _checks
 
 __all__ = ['set_film', 'add', 'film', 'total', 'in_films', 'in_bridge', 'in_bridges', 'distribution', 'Distribution',
-           'spray', 'Spray', 'make_dry', 'sprayed']
+           'spray', 'sprays', 'sprayed', 'make_dry']
 
 
 def _ids(func, ids, spheres_only=True):
@@ -139,79 +139,80 @@ def distribution():
     return Distribution(spheres, liquid)
 
 
-class Spray:
-    """Binder sprayed at `rate` [m³/s] from `start` to `end` [s of simulated time] onto the spheres
-    whose centre is in the zone (a box or a ball), shared in proportion to their cross-sections
-    (r²).  Called by its PyRunner; ``delivered`` is what it has put into films [m³], ``pending``
-    what it holds while no sphere is in the zone (given to the next ones that are)."""
-
-    def __init__(self, rate, box, ball, start, end):
-        self.rate, self.box, self.ball, self.start, self.end = rate, box, ball, start, end
-        self.last, self.delivered, self.pending = None, 0.0, 0.0
-
-    def inside(self, pos):
-        if self.box is not None:
-            return all(self.box[0][k] <= pos[k] <= self.box[1][k] for k in range(3))
-        centre, radius = self.ball
-        return sum((pos[k] - centre[k]) ** 2 for k in range(3)) <= radius * radius
-
-    def __call__(self):
-        from yade import O
-        import yade.wrapper as yw
-        now = O.time + O.dt  # runs after the integrator: the end of this step
-        last = self.start if self.last is None else self.last
-        self.pending += self.rate * max(0.0, min(now, self.end) - max(last, self.start))
-        self.last = now
-        targets = [b for b in O.bodies if b is not None and isinstance(b.shape, yw.Sphere) and self.inside(b.state.pos)]
-        if not targets or self.pending <= 0:
-            return
-        weights = [b.shape.radius ** 2 for b in targets]
-        scale = self.pending / math.fsum(weights)
-        add([b.id for b in targets], [w * scale for w in weights])
-        self.delivered += self.pending
-        self.pending = 0.0
-
-
-_SPRAYS = []
-
-
-def spray(rate, box=None, ball=None, start=0.0, end=math.inf, iterPeriod=100):
-    """A PyRunner that sprays binder at `rate` [m³/s] onto the spheres in a zone — ``box=((xmin, ymin,
-    zmin), (xmax, ymax, zmax))`` or ``ball=((x, y, z), radius)`` — between the simulated times
-    `start` and `end` [s], every `iterPeriod` steps; append it to O.engines.  Its :class:`Spray` is
-    ``viscbridge.liquid.sprays()[-1]`` (``delivered``, ``pending``)."""
+def spray(rate, box=None, ball=None, start=0.0, end=math.inf, nozzle=(0, 0, -1), maxFilmRel=0.1, iterPeriod=100,
+          virtPeriod=None, label=''):
+    """A :yref:`ViscBridgeSpray` engine that sprays binder at `rate` [m³/s] between the simulated times
+    `start` and `end` [s] onto the spheres in a zone — ``box=((xmin, ymin, zmin), (xmax, ymax, zmax))``
+    or ``ball=((x, y, z), radius)`` [m] — that the spray reaches (physics.md L6, L7): droplets travel
+    along `nozzle` (default straight down, −z; ``None``: every sphere in the zone, hidden or not) and
+    wet the first sphere they meet, so the bed's free surface in the zone takes the liquid, in
+    proportion to the area each sphere shows the nozzle, recomputed as the bed moves.  No film grows
+    beyond `maxFilmRel` × its sphere's volume; the excess goes to the other reached spheres, and waits
+    (``pending``) when all are full.  Every `iterPeriod` steps (or `virtPeriod` [s]).  Append it to
+    O.engines (after the NewtonIntegrator); it is saved with the scene and continues after O.load,
+    nothing sprayed twice.  ``sprayed``, ``delivered`` and ``pending`` [m³] are its attributes;
+    YADE's log warns once when the liquid waits because no sphere is reached, all are full, or the
+    window has ended."""
     import yade.wrapper as yw
     f = 'spray'
-    rate = _checks.positive(f, 'rate', rate, ' [m³/s]')
+    rate = _checks.non_negative(f, 'rate', rate, ' [m³/s]')
     if (box is None) == (ball is None):
-        raise ValueError('spray: give exactly one zone, box=((xmin, ymin, zmin), (xmax, ymax, zmax)) or ball=((x, y, z), radius)')
-    if box is not None:
-        try:
-            box = tuple(tuple(_checks.number(f, 'box', c, 'two corners of three finite numbers [m]') for c in corner) for corner in box)
-        except TypeError:
-            box = None
-        if box is None or len(box) != 2 or any(len(c) != 3 for c in box) or any(box[0][k] > box[1][k] for k in range(3)):
-            _checks.reject(f, 'box', box, '((xmin, ymin, zmin), (xmax, ymax, zmax)) with min <= max [m]')
-    else:
-        try:
-            centre, radius = ball
-            centre = tuple(_checks.number(f, 'ball', c, 'a centre of three finite numbers [m]') for c in centre)
-        except (TypeError, ValueError):
-            centre = None
-        if centre is None or len(centre) != 3:
-            _checks.reject(f, 'ball', ball, '((x, y, z), radius) [m]')
-        ball = (centre, _checks.positive(f, 'ball radius', radius, ' [m]'))
+        raise ValueError('spray: give exactly one zone, box=((xmin, ymin, zmin), (xmax, ymax, zmax)) or ball=((x, y, z), radius) [m]')
+    zone = _box_zone(f, box) if box is not None else _ball_zone(f, ball)
     start = _checks.non_negative(f, 'start', start, ' [s]')
-    if not (isinstance(end, (int, float)) and end > start):
+    if not (isinstance(end, (int, float)) and not isinstance(end, bool) and end > start):
         _checks.reject(f, 'end', end, 'a time after start=%g [s] (inf: no end)' % start)
-    _SPRAYS.append(Spray(rate, box, ball, start, float(end)))
-    return yw.PyRunner(iterPeriod=_checks.integer(f, 'iterPeriod', iterPeriod, minimum=1),
-                       command='import viscbridge.liquid; viscbridge.liquid._SPRAYS[%d]()' % (len(_SPRAYS) - 1))
+    direction = (0.0, 0.0, 0.0) if nozzle is None else _vector(f, 'nozzle', nozzle, 'a direction (x, y, z), not zero; None: no shadow')
+    if nozzle is not None and not any(direction):
+        _checks.reject(f, 'nozzle', nozzle, 'a direction (x, y, z), not zero; None: no shadow')
+    engine = yw.ViscBridgeSpray(rate=rate, start=start, end=-1.0 if math.isinf(end) else float(end), nozzle=direction,
+                                maxFilmRel=_checks.positive(f, 'maxFilmRel', maxFilmRel), label=label, **zone)
+    if virtPeriod is not None:
+        engine.virtPeriod = _checks.positive(f, 'virtPeriod', virtPeriod, ' [s]')
+    else:
+        engine.iterPeriod = _checks.integer(f, 'iterPeriod', iterPeriod, minimum=1)
+    return engine
+
+
+def _vector(func, name, value, allowed):
+    try:
+        v = tuple(_checks.number(func, name, c, allowed) for c in value)
+    except TypeError:
+        v = ()
+    if len(v) != 3:
+        _checks.reject(func, name, value, allowed)
+    return v
+
+
+def _box_zone(func, box):
+    try:
+        corners = [_vector(func, 'box', c, 'two corners of three finite numbers [m]') for c in box]
+    except (TypeError, ValueError):
+        corners = []
+    if len(corners) != 2 or any(corners[0][k] > corners[1][k] for k in range(3)):
+        _checks.reject(func, 'box', box, '((xmin, ymin, zmin), (xmax, ymax, zmax)) with min <= max [m]')
+    return dict(boxMin=corners[0], boxMax=corners[1])
+
+
+def _ball_zone(func, ball):
+    try:
+        centre, radius = ball
+    except (TypeError, ValueError):
+        _checks.reject(func, 'ball', ball, '((x, y, z), radius) [m]')
+    centre = _vector(func, 'ball', centre, 'a centre of three finite numbers [m]')
+    return dict(ballCentre=centre, ballRadius=_checks.positive(func, 'ball radius', radius, ' [m]'))
 
 
 def sprays():
-    """The :class:`Spray` objects of this session, in the order :func:`spray` made them."""
-    return list(_SPRAYS)
+    """The :yref:`ViscBridgeSpray` engines of O.engines, in their order there."""
+    from yade import O
+    import yade.wrapper as yw
+    return [e for e in O.engines if isinstance(e, yw.ViscBridgeSpray)]
+
+
+def sprayed():
+    """The liquid the sprays of O.engines have put into the films so far [m³] (their ``delivered``)."""
+    return math.fsum(s.delivered for s in sprays())
 
 
 def make_dry(ids=None, material=None):
@@ -231,8 +232,3 @@ def make_dry(ids=None, material=None):
     for i in ids:
         yw.ViscBridgeState.of(O.bodies[i]).wettable = False
     return ids
-
-
-def sprayed():
-    """The liquid that sprays have put into the films so far [m³]."""
-    return math.fsum(s.delivered for s in _SPRAYS)

@@ -13,9 +13,10 @@
 #include "viscbridge/engines/ViscBridgeImplicitWarmStart.hpp"
 #include "viscbridge/engines/ViscBridgeLiquid.hpp"
 #include "viscbridge/engines/ViscBridgeRecorder.hpp"
+#include "viscbridge/engines/ViscBridgeSpray.hpp"
 
 namespace yade {
 YADE_PLUGIN((ViscBridgeHeaderProbe)(ViscBridgePhys)(Ip2_FrictMat_FrictMat_ViscBridgePhys)(Law2_ScGeom_ViscBridgePhys_HertzViscous)
             (Ig2_Wall_Sphere_ViscBridgeScGeom)(Ig2_Facet_Sphere_ViscBridgeScGeom)
-            (ViscBridgeTimeStepper)(ViscBridgeImplicitSolver)(ViscBridgeImplicitWarmStart)(ViscBridgeGuard)(ViscBridgeLiquid)(ViscBridgeRecorder)(ViscBridgeState)(ViscBridgeContext));
+            (ViscBridgeTimeStepper)(ViscBridgeImplicitSolver)(ViscBridgeImplicitWarmStart)(ViscBridgeGuard)(ViscBridgeLiquid)(ViscBridgeRecorder)(ViscBridgeSpray)(ViscBridgeState)(ViscBridgeContext));
 } // namespace yade
