@@ -182,6 +182,22 @@ def test_a_drum_case_gives_the_drum_its_parameters_and_one_speed():
         scan.drum_arguments({})
 
 
+def test_a_drum_case_sprays_binder_by_its_spray_fields():
+    """sprayRel (the binder over the particles' volume), sprayRevolutions and sprayStart describe
+    Drum.spray, not scenes.drum; at their defaults (no spray) they leave the key as it was, so drum
+    scans run before them resume."""
+    before = scan.case_key(dict(DRUM, viscosity=5.0))
+    assert scan.case_key(dict(DRUM, viscosity=5.0, sprayRel=0.0, sprayRevolutions=1.0, sprayStart=0.0)) == before
+    assert scan.case_key(dict(DRUM, viscosity=5.0, sprayRel=0.02)) != before
+    args = scan.drum_arguments(dict(DRUM, sprayRel=0.02, sprayRevolutions=2))
+    assert not set(args) & {'sprayRel', 'sprayRevolutions', 'sprayStart'}
+    with pytest.raises(ValueError, match=r"sprayRel=0.02 needs liquidModel='film'"):
+        scan.normalize_case(dict(DRUM, sprayRel=0.02, liquidModel='fixed'))
+    for field, value in (('sprayRel', 1.5), ('sprayRel', -0.1), ('sprayRevolutions', 0.0), ('sprayStart', -1.0)):
+        with pytest.raises(ValueError, match=r'scan case: %s=.* is out of range' % field):
+            scan.normalize_case(dict(DRUM, **{field: value}))
+
+
 def test_a_table_holds_cases_of_one_kind_with_their_columns(tmp_path):
     settling = open(scan.write_table([{}], str(tmp_path / 'settling.table'), str(tmp_path))).read().splitlines()
     assert settling[0].split() == ['description'] + list(scan.CASE_DEFAULTS) + ['scanDir']  # as before drums

@@ -68,7 +68,11 @@ def test_drum_fields_are_those_of_scenes_drum():
     import inspect
     drum_module = importlib.import_module('viscbridge.scenes.drum')  # viscbridge.scenes.drum is the function
     signature = inspect.signature(drum_module.drum).parameters
+    spray = inspect.signature(drum_module.Drum.spray).parameters
     for name, default in scan.DRUM_DEFAULTS.items():
+        if name in scan.DRUM_SPRAY_KEYS:  # an argument of Drum.spray (sprayRel has no default there: 0 means no spray)
+            assert spray[scan.DRUM_SPRAY_KEYS[name]].default in (default, inspect.Parameter.empty), name
+            continue
         assert scan.DRUM_FIELDS[name].unit == drum_module.UNITS.get(name, ''), name
         if name not in ('n', 'drumRadius', 'length', 'rpm', 'revolutions', 'bridgeVolumeRel'):
             assert signature[name].default == default, name
@@ -76,3 +80,11 @@ def test_drum_fields_are_those_of_scenes_drum():
     assert scan.DRUM_DEFAULTS['bridgeVolumeRel'] == yw.Ip2_FrictMat_FrictMat_ViscBridgePhys().bridgeVolumeRel
     for case in (dict(kind='drum'), dict(kind='drum', rpm=30)):
         assert set(scan.drum_arguments(case)) <= set(signature) | {'bridgeVolumeRel'}
+
+
+def test_a_sprayed_drum_case_reports_the_liquid_it_sprayed(tmp_path):
+    r = scan.run_drum_case(dict(kind='drum', n=40, drumRadius=8e-3, length=6e-3, wetFraction=0.0, revolutions=0.15,
+                                sprayRel=0.01, sprayRevolutions=0.1), str(tmp_path))
+    assert r['liquid_sprayed'] > 0 and r['sprayRel'] == 0.01
+    particles = 40 * 4 / 3 * math.pi * 1e-9 * 0.9 ** 3  # radii 0.9–1 mm
+    assert 0.9 * 0.01 * particles < r['liquid_sprayed'] < 0.01 * particles / 0.9 ** 3 * 1.001

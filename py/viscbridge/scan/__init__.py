@@ -42,7 +42,7 @@ from ..measures import period_two_ringing  # noqa: F401  (its name here before m
 from .batch import _failures, _interrupt, _log_error, _progress, _run_batch, _signals, _stop_group, run_cases  # noqa: F401
 from .beds import _bed_path, _saved_format, dry_bed, settled_bed  # noqa: F401
 from .bisection import bisect_threshold
-from .cases import (_BED_KEYS, _KEY_OMITS_AT_DEFAULT, _LIQUID_KEYS, CASE_DEFAULTS, CASE_FIELDS, DRUM_DEFAULTS,  # noqa: F401
+from .cases import (_BED_KEYS, _KEY_OMITS_AT_DEFAULT, _LIQUID_KEYS, CASE_DEFAULTS, CASE_FIELDS, DRUM_DEFAULTS, DRUM_SPRAY_KEYS,  # noqa: F401
                     DRUM_FIELDS, KINDS, Field, Interval, Kind, _allowed, _check_known, _check_with_ip2, _checked,
                     _describe, _ip2_models, _ip2_range, kind_of,
                     _number, case_key, grid, normalize_case, one_at_a_time, unique_cases)
@@ -55,7 +55,7 @@ from .table import JOB_SCRIPT, _table_value, write_table  # noqa: F401
 from .trial import _Trial, find_critical_dt  # noqa: F401
 from .drum_trial import drum_arguments, run_drum_case
 
-__all__ = ['CASE_DEFAULTS', 'CASE_FIELDS', 'DRUM_DEFAULTS', 'DRUM_FIELDS', 'KINDS', 'Kind', 'Field', 'Interval',
+__all__ = ['CASE_DEFAULTS', 'CASE_FIELDS', 'DRUM_DEFAULTS', 'DRUM_FIELDS', 'DRUM_SPRAY_KEYS', 'KINDS', 'Kind', 'Field', 'Interval',
            'ScanError', 'CasesFailed', 'kind_of', 'normalize_case', 'case_key', 'unique_cases', 'one_at_a_time', 'grid',
            'bisect_threshold', 'find_critical_dt', 'drum_arguments', 'run_drum_case', 'ResultsFile', 'write_table',
            'run_cases', 'collect', 'slurm_script', 'build_parser', 'main']

@@ -17,7 +17,7 @@ import sys
 
 from .. import _registry
 
-__all__ = ['CASE_DEFAULTS', 'CASE_FIELDS', 'DRUM_DEFAULTS', 'DRUM_FIELDS', 'KINDS', 'Kind', 'Field', 'Interval',
+__all__ = ['CASE_DEFAULTS', 'CASE_FIELDS', 'DRUM_DEFAULTS', 'DRUM_FIELDS', 'DRUM_SPRAY_KEYS', 'KINDS', 'Kind', 'Field', 'Interval',
            'kind_of', 'normalize_case', 'case_key', 'unique_cases', 'one_at_a_time', 'grid']
 
 #: Every field a case can set, with its default.  Liquid/model fields go to
@@ -110,11 +110,12 @@ DRUM_DEFAULTS = dict(
     n=300, radius=1e-3, drumRadius=15e-3, length=10e-3, density=2500.0, young=1e7, poisson=0.3, friction=0.5,
     wallFriction=0.8, segments=32, seed=1, froude=0.05, rpm=0.0, viscosity=1.0, liquidModel='film', wetFraction=0.15,
     filmRel=0.02, minBridgeRel=0.002, bridgeVolumeRel=0.01, integration='implicit', revolutions=1.0,
-    # sprayRate [m³/s] goes here once scenes.drum sprays binder (with its Field below and its argument in
-    # drum_trial.drum_arguments), and into _DRUM_KEY_OMITS_AT_DEFAULT, so that drum scans run before it resume.
+    sprayRel=0.0, sprayRevolutions=1.0, sprayStart=0.0,
 )
 # Fields added to drum cases after drum scans were run: left out of a case's key while at their default.
-_DRUM_KEY_OMITS_AT_DEFAULT = ()
+_DRUM_KEY_OMITS_AT_DEFAULT = ('sprayRel', 'sprayRevolutions', 'sprayStart')
+#: The fields that describe the spray, not the drum: each one's argument of Drum.spray.
+DRUM_SPRAY_KEYS = dict(sprayRel='volumeRel', sprayRevolutions='revolutions', sprayStart='start')
 _DRUM_LIQUID_KEYS = ('viscosity', 'bridgeVolumeRel')
 
 #: Unit, meaning and allowed values of every field of DRUM_DEFAULTS (the ranges scenes.drum accepts).
@@ -141,6 +142,11 @@ DRUM_FIELDS = dict(
     bridgeVolumeRel=Field('', 'largest bridge volume over the mean particle volume', _ip2_range('bridgeVolumeRel')),
     integration=Field('', 'time integration of the viscous forces', _registry.INTEGRATIONS),
     revolutions=Field('', 'revolutions the drum turns', Interval(0, lo_open=True)),
+    sprayRel=Field('', "binder sprayed onto the bed's surface as the drum turns, over the particles' volume (0: no spray; "
+                       "needs liquidModel 'film'; Drum.spray)", Interval(0, 1)),
+    sprayRevolutions=Field('', 'revolutions the spray lasts (its rate: sprayRel of the particles\' volume over them)',
+                           Interval(0, lo_open=True)),
+    sprayStart=Field('', 'revolution at which the spray starts', Interval(0)),
 )
 
 
@@ -230,6 +236,9 @@ def _check_drum(case):
     if case['rpm'] > 0 and case['froude'] != DRUM_DEFAULTS['froude']:
         raise ValueError('scan case: froude=%r and rpm=%r both set the drum speed; allowed: one of them (rpm=0 for froude)'
                          % (case['froude'], case['rpm']))
+    if case['sprayRel'] > 0 and case['liquidModel'] != 'film':
+        raise ValueError("scan case: sprayRel=%r needs liquidModel='film' (sprayed binder goes into the films), not %r"
+                         % (case['sprayRel'], case['liquidModel']))
 
 
 def _check_with_ip2(case):

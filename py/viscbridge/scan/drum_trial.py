@@ -9,7 +9,7 @@ import math
 import os
 import time
 
-from .cases import DRUM_DEFAULTS, case_key, kind_of, normalize_case
+from .cases import DRUM_DEFAULTS, DRUM_SPRAY_KEYS, case_key, kind_of, normalize_case
 
 __all__ = ['RECORD_EVERY', 'MEASURES', 'drum_arguments', 'history_dir', 'run_drum_case']
 
@@ -31,9 +31,9 @@ def _drum_case(func, case):
 
 def drum_arguments(case):
     """The arguments of :func:`viscbridge.scenes.drum` for a drum case: every field but
-    ``revolutions``, and the speed as ``rpm`` when it is set (> 0), else as ``froude``."""
+    ``revolutions`` and the spray's, and the speed as ``rpm`` when it is set (> 0), else as ``froude``."""
     case = _drum_case('drum_arguments', case)
-    args = {k: case[k] for k in DRUM_DEFAULTS if k not in ('revolutions', 'froude', 'rpm')}
+    args = {k: case[k] for k in DRUM_DEFAULTS if k not in ('revolutions', 'froude', 'rpm') + tuple(DRUM_SPRAY_KEYS)}
     speed = 'rpm' if case['rpm'] > 0 else 'froude'
     args[speed] = case[speed]
     return args
@@ -61,8 +61,10 @@ def run_drum_case(case, scan_dir):
     case = _drum_case('run_drum_case', case)
     started = time.time()
     d = scenes.drum(**drum_arguments(case))
+    if case['sprayRel'] > 0:
+        d.spray(**{argument: case[field] for field, argument in DRUM_SPRAY_KEYS.items()})
     history = AgglomerateHistory(os.path.join(history_dir(scan_dir, case), 'agglomerates.csv'), drum=d,
-                                 params=dict(revolutions=case['revolutions']))
+                                 params={k: case[k] for k in ('revolutions',) + tuple(DRUM_SPRAY_KEYS)})
     O.engines = O.engines + [history.recorder(virtPeriod=d.period * RECORD_EVERY)]
     d.run(revolutions=case['revolutions'])
     last = history.record()

@@ -69,6 +69,31 @@ class Drum:
         finally:
             O.stopAtTime = 0
 
+    def spray(self, volumeRel, revolutions=1.0, start=0.0, zone=None, nozzle=(0, 0, -1), maxFilmRel=0.1, label='drumSpray'):
+        """Spray binder onto the bed as the drum turns: `volumeRel` × the particles' volume in all,
+        at a constant rate over `revolutions` revolutions from revolution `start` on (needs
+        liquidModel='film').  Droplets fall along `nozzle` (default straight down) and land on the
+        spheres they meet first — the bed's free surface, wherever the cascade has put it
+        (physics.md L6) — inside `zone` (``((xmin, ymin, zmin), (xmax, ymax, zmax))`` [m]; default
+        the whole drum); no film beyond `maxFilmRel` of its sphere's volume (L7).  Appends a
+        :yref:`ViscBridgeSpray` to O.engines (saved with the scene) and returns it; its period is
+        1/100 revolution."""
+        f = 'Drum.spray'
+        if self.params['liquidModel'] != 'film':
+            raise ValueError("Drum.spray: the drum was built with liquidModel=%r; sprayed binder needs liquidModel='film' "
+                             '(the liquid lives in the particles\' films)' % self.params['liquidModel'])
+        _checks.in_range(f, 'volumeRel', volumeRel, 0, 1, lo_open=True)
+        revolutions = _checks.positive(f, 'revolutions', revolutions)
+        start = _checks.non_negative(f, 'start', start)
+        R, L = self.params['drumRadius'], self.params['length']
+        box = ((-R, -L / 2, -R), (R, L / 2, R)) if zone is None else zone
+        particles = math.fsum(4 / 3 * math.pi * O.bodies[i].shape.radius ** 3 for i in self.spheres)
+        engine = liquid.spray(volumeRel * particles / (revolutions * self.period), box=box, start=start * self.period,
+                              end=(start + revolutions) * self.period, nozzle=nozzle, maxFilmRel=maxFilmRel,
+                              virtPeriod=self.period / 100, label=label)
+        O.engines = O.engines + [engine]
+        return engine
+
     def describe(self):
         p = self.params
         return '%d spheres (r=%.3g m), drum R=%.3g m, Fr=%.3g (%.1f rpm), μ=%.3g Pa·s, %s liquid, %s walls, %s' % (
