@@ -29,7 +29,7 @@ G = 9.81
 #: The unit of each parameter of :func:`drum` ('' for a number without unit or a name); the Ip2's
 #: parameters passed through take theirs from the C++ table (``_registry.PARAMETERS``).
 UNITS = dict(radius='m', drumRadius='m', length='m', fill='', n='', froude='', rpm='1/min', viscosity='Pa·s',
-             liquidModel='', wetFraction='', filmRel='', minBridgeRel='', wetWalls='', integration='',
+             liquidModel='', wetFraction='', filmRel='', minBridgeRel='', wetWalls='', integration='', accuracy='',
              density='kg/m³', young='Pa', poisson='', friction='rad', wallFriction='rad', segments='', seed='')
 
 
@@ -102,8 +102,9 @@ class Drum:
 
 
 def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.05, rpm=None, viscosity=1.0,
-         liquidModel='film', wetFraction=0.15, filmRel=0.02, minBridgeRel=0.002, wetWalls=False, integration='implicit',
-         density=2500.0, young=1e7, poisson=0.3, friction=0.5, wallFriction=0.8, segments=32, seed=1, **effects):
+         liquidModel='film', wetFraction=0.15, filmRel=0.02, minBridgeRel=0.002, wetWalls=False, integration=None,
+         accuracy=None, density=2500.0, young=1e7, poisson=0.3, friction=0.5, wallFriction=0.8, segments=32, seed=1,
+         **effects):
     """Build a drum in O (which is reset) and return its :class:`Drum` handle.
 
     Spheres of radius `radius` [m] (up to 10 % smaller) in a drum of radius `drumRadius` (default 20 r) and
@@ -115,8 +116,10 @@ def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.
     volume; bridges take it from them, :mod:`viscbridge.liquid`, and form only from at least
     `minBridgeRel` of a particle's volume, ViscBridgeLiquid.minBridgeVolume) or 'fixed' (every contact wet);
     `wetWalls` False makes the drum wall dry (no bridge).  Other Ip2 parameters (bridgeVolumeRel,
-    normalModel, ...) pass through.  `integration`: 'implicit' (default: at 1–1000 Pa·s the
-    explicit viscous limit would be 10²–10⁵ times the collision step) or 'explicit'.
+    normalModel, ...) pass through.  `integration`: 'implicit' (the default: at 1–1000 Pa·s the
+    explicit viscous limit would be 10²–10⁵ times the collision step), 'explicit' or 'auto'.
+    `accuracy`: a tolerance on the run's relative error instead of a time step from stability alone
+    (ViscBridgeTimeStepper.accuracy, docs/timestep.md); with it the default integration is 'auto'.
     """
     f = 'drum'
     radius = _checks.positive(f, 'radius', radius, ' [m]')
@@ -156,8 +159,10 @@ def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.
     rotation = yw.RotationEngine(ids=facets, rotationAxis=(0, 1, 0), rotateAroundZero=True, zeroPoint=(0, 0, 0),
                                  angularVelocity=omega, label='drumRotation')
     film_args = {} if liquidModel != 'film' else {'minBridgeVolume': minBridgeRel * 4 / 3 * math.pi * radius ** 3}
-    O.engines = engines(gravity=(0, 0, -G), integration=integration, minRadius=0.9 * radius, kinematic=[rotation],
-                        **film_args, **ip2_args)
+    if integration is None:
+        integration = 'implicit' if accuracy is None else 'auto'
+    O.engines = engines(gravity=(0, 0, -G), integration=integration, accuracy=accuracy, minRadius=0.9 * radius,
+                        kinematic=[rotation], **film_args, **ip2_args)
     O.dt = 1e-6  # the time stepper takes over
     if liquidModel == 'film' and wetFraction > 0 and filmRel > 0:
         import random
@@ -166,7 +171,7 @@ def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.
         liquid.set_film(wet, [filmRel * 4 / 3 * math.pi * O.bodies[i].shape.radius ** 3 for i in wet])
     params = dict(radius=radius, drumRadius=drumRadius, length=length, fill=fill, n=n, froude=froude,
                   rpm=omega * 60 / (2 * math.pi), viscosity=viscosity, liquidModel=liquidModel, wetFraction=wetFraction,
-                  filmRel=filmRel, minBridgeRel=minBridgeRel, wetWalls=wetWalls, integration=integration, density=density,
+                  filmRel=filmRel, minBridgeRel=minBridgeRel, wetWalls=wetWalls, integration=integration, accuracy=accuracy, density=density,
                   young=young, poisson=poisson, friction=friction, wallFriction=wallFriction, segments=segments, seed=seed)
     params.update(ip2_args)
     return Drum(params, omega, spheres, facets, rotation)
