@@ -6,6 +6,7 @@
 //                                  of inputs, which tests/unit/test_criteria.py compares with
 //                                  viscbridge.criteria (one formula source: the kernels)
 #include "viscbridge/core/models/Parameters.hpp"
+#include "viscbridge/core/models/Plausible.hpp"
 #include "viscbridge/core/models/contact/HertzMindlin.hpp"
 #include "viscbridge/core/pair/PairConstants.hpp"
 #include "viscbridge/core/pair/PairGeometry.hpp"
@@ -99,6 +100,9 @@ void printPython()
 	printSlot<vb::CapillarySlot>();
 	std::printf("}\n\n#: The time integrations of the viscous forces (Law2_ScGeom_ViscBridgePhys_HertzViscous.integration).\n");
 	std::printf("INTEGRATIONS = (%s, %s)\n\n", quoted(vb::integrationNames[0]).c_str(), quoted(vb::integrationNames[1]).c_str());
+	std::printf("#: Beyond these a value is legal but almost surely a unit mistake (core/models/Plausible.hpp).\n");
+	std::printf("PLAUSIBLE = dict(maxRadius=%s, minViscosity=%s, maxViscosity=%s)\n\n", number(vb::plausible::maxRadius).c_str(),
+	            number(vb::plausible::minViscosity).c_str(), number(vb::plausible::maxViscosity).c_str());
 	std::printf("#: The numeric parameters of Ip2_FrictMat_FrictMat_ViscBridgePhys: unit, default, allowed range.\n");
 	std::printf("PARAMETERS = {\n");
 	for (const vb::ParameterSpec& p : vb::parameters::all)

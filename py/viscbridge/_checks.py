@@ -5,8 +5,21 @@ allowed, the way the C++ classes report a bad attribute.
 """
 import math
 import numbers
+import sys
+import warnings
 
-__all__ = ['reject', 'number', 'positive', 'non_negative', 'in_range', 'integer', 'boolean', 'choice']
+__all__ = ['reject', 'number', 'positive', 'non_negative', 'in_range', 'integer', 'boolean', 'choice', 'implausible']
+
+
+def implausible(key, message):
+    """A value no wet granulation run uses (a likely unit mistake): a warning in YADE's log, once per
+    scene and `key` (ViscBridgeContext.warnOnce); the caller goes on.  Outside YADE a Python warning."""
+    wrapper = sys.modules.get('yade.wrapper')
+    context = getattr(wrapper, 'ViscBridgeContext', None)
+    if context is not None:
+        context.warnOnce(key, message)
+    else:
+        warnings.warn(message, stacklevel=3)
 
 
 def reject(func, name, value, allowed):

@@ -69,6 +69,9 @@ SLOTS = {
 #: The time integrations of the viscous forces (Law2_ScGeom_ViscBridgePhys_HertzViscous.integration).
 INTEGRATIONS = ('explicit', 'implicit')
 
+#: Beyond these a value is legal but almost surely a unit mistake (core/models/Plausible.hpp).
+PLAUSIBLE = dict(maxRadius=0.10000000000000001, minViscosity=0.0001, maxViscosity=1000.0)
+
 #: The numeric parameters of Ip2_FrictMat_FrictMat_ViscBridgePhys: unit, default, allowed range.
 PARAMETERS = {
     'viscosity': dict(unit='Pa·s', default=0.0, lo=0.0, hi=math.inf, lo_open=False, hi_open=True, zero_means='dry'),

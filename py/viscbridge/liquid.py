@@ -59,6 +59,7 @@ def set_film(ids, volume):
     ids = _ids('set_film', ids)
     for i, v in zip(ids, _volumes('set_film', ids, volume)):
         yw.ViscBridgeState.of(O.bodies[i]).film = v
+        _warn_if_beyond_sphere('set_film', i, v)
 
 
 def add(ids, volume):
@@ -70,6 +71,16 @@ def add(ids, volume):
     for i, v in zip(ids, _volumes('add', ids, volume)):
         state = yw.ViscBridgeState.of(O.bodies[i])
         state.film = state.film + v
+        _warn_if_beyond_sphere('add', i, state.film)
+
+
+def _warn_if_beyond_sphere(func, i, film):
+    """A film larger than its sphere is legal but almost surely a unit slip (a fraction typed as m³)."""
+    from yade import O
+    own = 4 / 3 * math.pi * O.bodies[i].shape.radius ** 3
+    if film > own:
+        _checks.implausible('film', '%s: body #%d gets a film of %.4g m³, more than its own volume (%.4g m³): films are in m³ '
+                                    '(for a fraction of the sphere\'s volume multiply by it)' % (func, i, film, own))
 
 
 def film(id):

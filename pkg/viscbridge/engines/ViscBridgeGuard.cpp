@@ -6,6 +6,7 @@
 #include "viscbridge/core/timestep/TimeStepBounds.hpp"
 #include "viscbridge/core/util/Validation.hpp"
 #include "viscbridge/scene/RunEnd.hpp"
+#include "viscbridge/scene/Plausibility.hpp"
 #include "viscbridge/scene/SceneValidation.hpp"
 #include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/distributed/Distributed.hpp"
@@ -376,6 +377,7 @@ void ViscBridgeGuard::action()
 	if (changed) {
 		try {
 			distributed::collectively(scene, [&] { validateScene(scene, true); }); // [MPI] one rank's error stops all
+			warnImplausible(scene);
 		} catch (const std::exception& e) {
 			lastError = e.what(); // readable even where YADE's O.run(n, True) loses a first-step error
 			throw;

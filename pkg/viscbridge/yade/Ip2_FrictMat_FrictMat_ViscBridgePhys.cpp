@@ -1,4 +1,5 @@
 #include "viscbridge/yade/Ip2_FrictMat_FrictMat_ViscBridgePhys.hpp"
+#include "viscbridge/core/models/Plausible.hpp"
 #include "viscbridge/core/models/contact/HertzMindlin.hpp"
 #include "viscbridge/core/pair/PairGeometry.hpp"
 #include "viscbridge/yade/ViscBridgeState.hpp"
@@ -68,8 +69,13 @@ void Ip2_FrictMat_FrictMat_ViscBridgePhys::warnIneffectiveOrImplausible() const
 	if (capillaryModel != vb::CapillaryModels::names[0] && !(surfaceTension > 0))
 		LOG_WARN(ip2Name << ".capillaryModel='" << capillaryModel
 		                 << "' has no effect while surfaceTension is 0: set surfaceTension [N/m] (water: 0.072) for a capillary force.");
-	if (viscosity > 0 && (viscosity < 1e-4 || viscosity > 1e5))
-		LOG_WARN(ip2Name << ".viscosity=" << viscosity << " Pa·s is outside 1e-4–1e5 Pa·s (water 1e-3, binders 1–1000): is the unit right?");
+	// the binders of wet granulation (core/models/Plausible.hpp); above them a value in mPa·s is the likely slip
+	if (viscosity > 0 && viscosity < vb::plausible::minViscosity)
+		LOG_WARN(ip2Name << ".viscosity=" << viscosity << " Pa·s is below " << vb::plausible::minViscosity
+		                 << " Pa·s, thinner than any binder (water 1e-3 Pa·s): is the unit right?");
+	if (viscosity > vb::plausible::maxViscosity)
+		LOG_WARN(ip2Name << ".viscosity=" << viscosity << " Pa·s is above " << vb::plausible::maxViscosity << " Pa·s, the most viscous binders of wet "
+		                 << "granulation (detergent pastes): in mPa·s it would be " << viscosity / 1e3 << " Pa·s; viscosity is in Pa·s.");
 }
 
 void Ip2_FrictMat_FrictMat_ViscBridgePhys::warnBridgeSize(Real volume, Real particleVolume, Real sRup, Real radius)

@@ -1,6 +1,7 @@
 #include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/yade/SceneAttachment.hpp"
 #include <core/Engine.hpp>
+#include <core/Omega.hpp>
 #include <pkg/dem/NewtonIntegrator.hpp>
 #include <lib/factory/ClassFactory.hpp>
 #include <algorithm>
@@ -9,6 +10,8 @@
 #endif
 
 namespace yade {
+
+CREATE_LOGGER(ViscBridgeContext);
 
 shared_ptr<ViscBridgeContext> ViscBridgeContext::shared(Scene* scene)
 {
@@ -41,6 +44,17 @@ void ViscBridgeContext::raiseAtNextStep(Scene* scene, const std::string& message
 	vector<shared_ptr<Engine>> next = scene->_nextEngines.empty() ? scene->engines : scene->_nextEngines;
 	next.insert(next.begin(), YADE_PTR_DYN_CAST<Engine>(ClassFactory::instance().createShared("ViscBridgeGuard")));
 	scene->_nextEngines = next;
+}
+
+void ViscBridgeContext::warnOnce(const std::string& key, const std::string& message)
+{
+	std::lock_guard<std::mutex> lock(pendingMutex);
+	if (warned.insert(key).second) LOG_WARN(message);
+}
+
+void ViscBridgeContext::warnCurrent(const std::string& key, const std::string& message)
+{
+	of(Omega::instance().getScene().get()).warnOnce(key, message);
 }
 
 std::string ViscBridgeContext::takePendingError()

@@ -18,6 +18,7 @@
 #include <lib/base/openmp-accu.hpp>
 #include <lib/serialization/Serializable.hpp>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,7 @@ class ViscBridgeContext : public Serializable {
 	long                                  publishedIter = -1, mergedIter = -1;
 	std::string                           pendingError;
 	std::mutex                            pendingMutex;
+	std::set<std::string>                 warned; // the plausibility warnings said in this scene
 
 public:
 	// The scene's context, created in scene->miscParams on first use.  Not thread-safe: called from
@@ -54,6 +56,11 @@ public:
 	void        raiseAtNextStep(Scene* scene, const std::string& message);
 	std::string takePendingError();
 
+	// A warning about a value no wet granulation run uses (a likely unit mistake), said once per
+	// scene and `key` through YADE's log; the run goes on.  warnCurrent: the same for O's scene (Python).
+	void        warnOnce(const std::string& key, const std::string& message);
+	static void warnCurrent(const std::string& key, const std::string& message);
+
 	// Work of the conservative bridge forces (capillary) since the context was created, as booked:
 	// −work, the sign of a dissipation (physics.md P21).
 	OpenMPAccumulator<Real> conservativeWork;
@@ -76,14 +83,23 @@ public:
 	const std::vector<BridgeEvent>& events(long iter);
 
 	// clang-format off
-	YADE_CLASS_BASE_DOC(ViscBridgeContext, Serializable,
+	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(ViscBridgeContext, Serializable,
 		"What the ViscBridge functors and engines of one scene share (created by them in "
 		":yref:`O.miscParams<Omega.miscParams>` on first use; nothing of it is saved): the scene's ViscBridge "
 		"functors, errors found inside the interaction loop (raised by :yref:`ViscBridgeGuard` at the next step), the work "
-		"of the capillary forces, and the formation and rupture events of the liquid bridges, published by "
+		"of the capillary forces, the formation and rupture events of the liquid bridges, published by "
 		":yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous` and read by engines after the interaction loop in an order "
-		"independent of the number of threads (docs/architecture.md).");
+		"independent of the number of threads (docs/architecture.md), and the plausibility warnings already said.",
+		/* attrs */,
+		/* ctor */,
+		/* py */
+		.def("warnOnce", &ViscBridgeContext::warnCurrent, (boost::python::arg("key"), boost::python::arg("message")),
+		     "Say `message` in YADE's log as a warning, once per scene and `key` (the plausibility warnings of viscbridge's "
+		     "Python functions: a value no wet granulation run uses, a likely unit mistake).")
+		.staticmethod("warnOnce")
+	);
 	// clang-format on
+	DECLARE_LOGGER;
 };
 REGISTER_SERIALIZABLE(ViscBridgeContext);
 

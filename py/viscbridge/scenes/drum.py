@@ -150,6 +150,7 @@ def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.
 
     O.reset()
     plot.reset()
+    _warn_implausible(radius, drumRadius, omega)  # once per scene: this one
     particles = O.materials.append(yw.FrictMat(young=young, poisson=poisson, density=density, frictionAngle=friction))
     shell = O.materials.append(yw.FrictMat(young=young, poisson=poisson, density=density, frictionAngle=wallFriction))
     facets = _shell(drumRadius, length, segments, shell)
@@ -175,6 +176,18 @@ def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.
                   young=young, poisson=poisson, friction=friction, wallFriction=wallFriction, segments=segments, seed=seed)
     params.update(ip2_args)
     return Drum(params, omega, spheres, facets, rotation)
+
+
+def _warn_implausible(radius, drumRadius, omega):
+    """Sizes and speeds no granulation drum has: likely unit mistakes (YADE's log, once; the drum is built)."""
+    largest = _registry.PLAUSIBLE['maxRadius']
+    if radius > largest:
+        _checks.implausible('radius', 'drum: radius=%g m is above %g m, larger than the particles of any wet granulation '
+                                      'run (µm to cm): the drum is %g m across; lengths are in m' % (radius, largest, 2 * drumRadius))
+    rpm = omega * 60 / (2 * math.pi)
+    if rpm < 1:
+        _checks.implausible('rpm', 'drum: it turns at %.3g rpm, slower than any granulation drum (5–60 rpm in the lab, '
+                                   '> 1 rpm in production); rpm is in revolutions per minute, froude = ω²R/g' % rpm)
 
 
 def _shell(drumRadius, length, segments, material):
