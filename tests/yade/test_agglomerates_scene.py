@@ -137,17 +137,18 @@ def test_the_history_counts_granules_apart_from_single_spheres_and_the_liquid_sp
     assert 0 <= whole['liquid_sprayed'] - before < spray.delivered
 
 
-def test_a_record_by_hand_restarts_the_recorders_period(tmp_path):
-    """A run stops before its recorder's turn at its last step: the row of the end is taken by hand
-    (as the drum example does after every quarter revolution), and the recorder must not log that
-    moment again when the next run starts."""
+def test_the_state_each_run_ends_in_is_a_row_once(tmp_path):
+    """The recorder also writes the row of a run's last step (a run to 350 steps ends between its
+    periods), labelled with the step it measures (after the integrator: O.iter + 1); a record() by
+    hand of the same state adds nothing, and the recorder's period restarts from a row by hand."""
     from viscbridge.analysis.agglomerate_history import AgglomerateHistory
     row_of_three()
     history = AgglomerateHistory(str(tmp_path / 'a.csv'))
-    O.engines = O.engines + [history.recorder(iterPeriod=100)]
     start = O.iter
+    O.engines = O.engines + [history.recorder(iterPeriod=100)]
     O.run(200, True)
-    history.record()
+    assert history.record() is history.rows[-1]  # the end of that run: a row already
     O.run(150, True)
-    assert [r['iter'] - start for r in history.rows] == [0, 100, 200, 300]
-    assert len(open(history.csv_path).read().splitlines()) == 1 + 4
+    assert [r['iter'] - start for r in history.rows] == [0, 100, 200, 300, 350]
+    assert history.rows[-1]['t'] == pytest.approx(O.time, rel=1e-12)
+    assert len(open(history.csv_path).read().splitlines()) == 1 + 5

@@ -74,7 +74,9 @@ def test_drum_fields_are_those_of_scenes_drum():
             assert spray[scan.DRUM_SPRAY_KEYS[name]].default in (default, inspect.Parameter.empty), name
             continue
         assert scan.DRUM_FIELDS[name].unit == drum_module.UNITS.get(name, ''), name
-        if name not in ('n', 'drumRadius', 'length', 'rpm', 'revolutions', 'bridgeVolumeRel'):
+        if name == 'integration':  # scenes.drum: None, 'implicit' unless accuracy is asked for
+            assert signature[name].default is None and default == 'implicit'
+        elif name not in ('n', 'drumRadius', 'length', 'rpm', 'revolutions', 'bridgeVolumeRel'):
             assert signature[name].default == default, name
     import yade.wrapper as yw
     assert scan.DRUM_DEFAULTS['bridgeVolumeRel'] == yw.Ip2_FrictMat_FrictMat_ViscBridgePhys().bridgeVolumeRel

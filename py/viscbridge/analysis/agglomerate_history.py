@@ -180,18 +180,22 @@ class AgglomerateHistory:
             json.dump(sidecar, fh, indent=1, ensure_ascii=False)
             fh.write('\n')
 
-    def record(self):
-        """Measure O now and append a row (to ``rows`` and the CSV); returns the row.  A call by hand
-        counts as one of the :meth:`recorder` s': their periods restart from it, so that a row taken
-        at the end of a run (which stops before its recorders' turn) is not logged again when the next
-        run starts."""
+    def record(self, after_step=False):
+        """Measure O now and append a row (to ``rows`` and the CSV); returns the row — the last one,
+        unchanged, when this state is recorded already (the recorder writes the row a run ends in).
+        `after_step`: called from within a step, after the integrator (the recorder): the state is
+        that of the step's end, iteration O.iter + 1 at O.time + O.dt.  A call by hand counts as one
+        of the :meth:`recorder` s': their periods restart from it."""
         from yade import O
+        iteration, now = (O.iter + 1, O.time + O.dt) if after_step else (O.iter, O.time)
+        if self.rows and self.rows[-1]['iter'] == iteration:
+            return self.rows[-1]
         for runner in self._runners:
             runner.virtLast, runner.iterLast, runner.nDone = O.time, O.iter, max(runner.nDone, 1)
         a = agglomerates(min_force=self.min_force, min_volume=self.min_volume)
         broken, merged = transitions(self._last, a) if self._last is not None else (0, 0)
         self._last = a
-        row = dict(t=O.time, iter=O.iter, revolutions=O.time / self.period if self.period else math.nan,
+        row = dict(t=now, iter=iteration, revolutions=now / self.period if self.period else math.nan,
                    **statistics(a), liquid_sprayed=liquid.sprayed(), broken=broken, merged=merged)
         return self._append(row, a)
 
@@ -204,21 +208,29 @@ class AgglomerateHistory:
         return row
 
     def recorder(self, iterPeriod=None, virtPeriod=None):
-        """A PyRunner that calls :meth:`record` every `iterPeriod` steps or `virtPeriod` seconds (from
-        the first step on, and from every call by hand)."""
+        """A recorder (:yref:`ViscBridgeRecorder`, a PyRunner) that calls :meth:`record` every
+        `iterPeriod` steps or `virtPeriod` seconds and in the last step of every run (``O.run(n)``, a
+        run to ``O.stopAtTime`` such as ``Drum.run``, ``O.step()``), so that the state a run ends in
+        is always a row; the state it is made in is the first row.  Append it to O.engines (after
+        the integrator, where ``O.engines + [...]`` puts it)."""
         import yade.wrapper as yw
+        from yade import O
         if (iterPeriod is None) == (virtPeriod is None):
             raise ValueError('AgglomerateHistory.recorder: give exactly one of iterPeriod=... or virtPeriod=... [s]')
+        if iterPeriod is not None:
+            iterPeriod = _checks.integer('recorder', 'iterPeriod', iterPeriod, minimum=1)
+        else:
+            virtPeriod = _checks.positive('recorder', 'virtPeriod', virtPeriod, ' [s]')
         _HISTORIES.append(self)
         # binds only the name `viscbridge` in the user's namespace (an alias would clobber their own)
         command = ('import viscbridge.analysis.agglomerate_history; '
-                   'viscbridge.analysis.agglomerate_history._HISTORIES[%d].record()' % (len(_HISTORIES) - 1))
+                   'viscbridge.analysis.agglomerate_history._HISTORIES[%d].record(after_step=True)' % (len(_HISTORIES) - 1))
+        self.record()  # the state the run starts from
         if iterPeriod is not None:
-            runner = yw.PyRunner(iterPeriod=_checks.integer('recorder', 'iterPeriod', iterPeriod, minimum=1), command=command,
-                                 initRun=True)
+            # the runner ends steps O.iter + period − 1, + 2·period − 1, ...: rows at O.iter + period, ...
+            runner = yw.ViscBridgeRecorder(iterPeriod=iterPeriod, firstIterRun=O.iter + iterPeriod - 1, command=command)
         else:
-            runner = yw.PyRunner(virtPeriod=_checks.positive('recorder', 'virtPeriod', virtPeriod, ' [s]'), command=command,
-                                 initRun=True)
+            runner = yw.ViscBridgeRecorder(virtPeriod=virtPeriod, command=command)
         self._runners.append(runner)
         return runner
 
