@@ -150,8 +150,8 @@ def distribution():
     return Distribution(spheres, liquid)
 
 
-def spray(rate, box=None, ball=None, start=0.0, end=math.inf, nozzle=(0, 0, -1), maxFilmRel=0.1, iterPeriod=100,
-          virtPeriod=None, label=''):
+def spray(rate, box=None, ball=None, start=0.0, end=math.inf, nozzle=(0, 0, -1), maxFilmRel=0.1, dropletVolume=0.0,
+          seed=0, iterPeriod=100, virtPeriod=None, label=''):
     """A :yref:`ViscBridgeSpray` engine that sprays binder at `rate` [m³/s] between the simulated times
     `start` and `end` [s] onto the spheres in a zone — ``box=((xmin, ymin, zmin), (xmax, ymax, zmax))``
     or ``ball=((x, y, z), radius)`` [m] — that the spray reaches (physics.md L6, L7): droplets travel
@@ -159,7 +159,9 @@ def spray(rate, box=None, ball=None, start=0.0, end=math.inf, nozzle=(0, 0, -1),
     wet the first sphere they meet, so the bed's free surface in the zone takes the liquid, in
     proportion to the area each sphere shows the nozzle, recomputed as the bed moves.  No film grows
     beyond `maxFilmRel` × its sphere's volume; the excess goes to the other reached spheres, and waits
-    (``pending``) when all are full.  Every `iterPeriod` steps (or `virtPeriod` [s]).  Append it to
+    (``pending``) when all are full.  `dropletVolume` [m³]: 0, a fine mist shared over every reached
+    sphere at each call; above 0, whole droplets, each landing on one reached sphere drawn by the area
+    it shows the nozzle (L6b; `seed` fixes the draws).  Every `iterPeriod` steps (or `virtPeriod` [s]).  Append it to
     O.engines (after the NewtonIntegrator); it is saved with the scene and continues after O.load,
     nothing sprayed twice.  ``sprayed``, ``delivered`` and ``pending`` [m³] are its attributes;
     YADE's log warns once when the liquid waits because no sphere is reached, all are full, or the
@@ -177,7 +179,9 @@ def spray(rate, box=None, ball=None, start=0.0, end=math.inf, nozzle=(0, 0, -1),
     if nozzle is not None and not any(direction):
         _checks.reject(f, 'nozzle', nozzle, 'a direction (x, y, z), not zero; None: no shadow')
     engine = yw.ViscBridgeSpray(rate=rate, start=start, end=-1.0 if math.isinf(end) else float(end), nozzle=direction,
-                                maxFilmRel=_checks.positive(f, 'maxFilmRel', maxFilmRel), label=label, **zone)
+                                maxFilmRel=_checks.positive(f, 'maxFilmRel', maxFilmRel),
+                                dropletVolume=_checks.non_negative(f, 'dropletVolume', dropletVolume, ' [m³]'),
+                                seed=_checks.integer(f, 'seed', seed, minimum=0), label=label, **zone)
     if virtPeriod is not None:
         engine.virtPeriod = _checks.positive(f, 'virtPeriod', virtPeriod, ' [s]')
     else:

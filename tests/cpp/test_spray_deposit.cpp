@@ -129,3 +129,39 @@ TEST(SprayShare, ConservesAndRespectsEveryRoom)
 		}
 	}
 }
+
+// L6b: whole droplets, each on one receiver; the remainder below a droplet waits; the draws depend
+// on (seed, counter) only, so a spray resumed with its counter lands the next droplets as the
+// uninterrupted one does.
+TEST(SprayDroplets, WholeDropletsLandByWeightAndTheRestWaits)
+{
+	std::vector<double> given;
+	std::uint64_t       counter = 0;
+	const double        left    = shareAsDroplets({ 1, 3 }, { 1, 1 }, 10.5e-3, 1e-3, 7, counter, given);
+	EXPECT_NEAR(left, 0.5e-3, 1e-15);
+	EXPECT_EQ(counter, 10u);
+	for (const double g : given) EXPECT_NEAR(std::fmod(g + 1e-12, 1e-3), 0.0, 1e-9); // whole droplets
+	EXPECT_NEAR(given[0] + given[1], 10e-3, 1e-15);
+	// many droplets: the shares follow the weights (1 : 3) to sampling error
+	counter = 0;
+	shareAsDroplets({ 1, 3 }, { 1e9, 1e9 }, 4000.0, 1.0, 7, counter, given);
+	EXPECT_NEAR(given[1] / 4000.0, 0.75, 0.03);
+	// resumed: the draws of droplets 2000–3999 alone are those of the second half of one run
+	std::uint64_t       c1 = 0, c2 = 2000;
+	std::vector<double> whole, half;
+	shareAsDroplets({ 1, 3 }, { 1e9, 1e9 }, 2000.0, 1.0, 7, c1, half);
+	shareAsDroplets({ 1, 3 }, { 1e9, 1e9 }, 2000.0, 1.0, 7, c2, whole);
+	EXPECT_EQ(half[0] + whole[0], given[0]);
+}
+
+// L7 with droplets: a droplet goes only where it fits; when no receiver has room, it waits.
+TEST(SprayDroplets, ADropletGoesOnlyWhereItFits)
+{
+	std::vector<double> given;
+	std::uint64_t       counter = 0;
+	const double        left    = shareAsDroplets({ 5, 1 }, { 2.5, 1.0 }, 10.0, 1.0, 3, counter, given);
+	EXPECT_EQ(given[0], 2.0); // room 2.5: two droplets, the third would not fit
+	EXPECT_EQ(given[1], 1.0);
+	EXPECT_EQ(left, 7.0);
+	EXPECT_EQ(shareAsDroplets({}, {}, 3.0, 1.0, 3, counter, given), 3.0);
+}

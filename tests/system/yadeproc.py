@@ -7,10 +7,11 @@ import subprocess
 import tempfile
 
 
-def run_yade(script, *args, threads=1, timeout=600, env=None, check=True):
+def run_yade(script, *args, threads=1, timeout=600, env=None, check=True, cwd=None):
     """Run ``yade -n -x [-jN] script args`` and return (completed_process, result_dict_or_None).
 
-    ``script`` is a path, or source text (anything containing a newline) written to a temp file.
+    ``script`` is a path, or source text (anything containing a newline) written to a temp file;
+    ``cwd``: the working directory (default: a temporary one).
     """
     with tempfile.TemporaryDirectory() as tmp:
         if '\n' in script:
@@ -22,7 +23,7 @@ def run_yade(script, *args, threads=1, timeout=600, env=None, check=True):
         result = os.path.join(tmp, 'result.json')
         e = dict(os.environ, VISCBRIDGE_RESULT=result, OMP_NUM_THREADS=str(threads), **(env or {}))
         cmd = ['yade', '-n', '-x', '-j%d' % threads, path, *map(str, args)]
-        proc = subprocess.run(cmd, env=e, capture_output=True, text=True, timeout=timeout, cwd=tmp)
+        proc = subprocess.run(cmd, env=e, capture_output=True, text=True, timeout=timeout, cwd=cwd or tmp)
         if check and proc.returncode != 0:
             raise AssertionError('yade exited with %d\n--- stdout\n%s\n--- stderr\n%s'
                                  % (proc.returncode, proc.stdout[-4000:], proc.stderr[-4000:]))

@@ -187,13 +187,14 @@ def test_a_drum_case_sprays_binder_by_its_spray_fields():
     Drum.spray, not scenes.drum; at their defaults (no spray) they leave the key as it was, so drum
     scans run before them resume."""
     before = scan.case_key(dict(DRUM, viscosity=5.0))
-    assert scan.case_key(dict(DRUM, viscosity=5.0, sprayRel=0.0, sprayRevolutions=1.0, sprayStart=0.0)) == before
+    assert scan.case_key(dict(DRUM, viscosity=5.0, sprayRel=0.0, sprayRevolutions=1.0, sprayStart=0.0, sprayDropletRel=0.0)) == before
     assert scan.case_key(dict(DRUM, viscosity=5.0, sprayRel=0.02)) != before
     args = scan.drum_arguments(dict(DRUM, sprayRel=0.02, sprayRevolutions=2))
-    assert not set(args) & {'sprayRel', 'sprayRevolutions', 'sprayStart'}
+    assert not set(args) & {'sprayRel', 'sprayRevolutions', 'sprayStart', 'sprayDropletRel'}
     with pytest.raises(ValueError, match=r"sprayRel=0.02 needs liquidModel='film'"):
         scan.normalize_case(dict(DRUM, sprayRel=0.02, liquidModel='fixed'))
-    for field, value in (('sprayRel', 1.5), ('sprayRel', -0.1), ('sprayRevolutions', 0.0), ('sprayStart', -1.0)):
+    for field, value in (('sprayRel', 1.5), ('sprayRel', -0.1), ('sprayRevolutions', 0.0), ('sprayStart', -1.0),
+                         ('sprayDropletRel', -0.5)):
         with pytest.raises(ValueError, match=r'scan case: %s=.* is out of range' % field):
             scan.normalize_case(dict(DRUM, **{field: value}))
 

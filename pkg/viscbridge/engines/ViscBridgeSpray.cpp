@@ -27,6 +27,7 @@ void ViscBridgeSpray::postLoad(ViscBridgeSpray&)
 		vb::requireFinite(kOwner, "end", end, "a finite time [s], < 0 for a spray that never stops");
 		vb::requirePositive(kOwner, "maxFilmRel", maxFilmRel);
 		vb::requireNonNegative(kOwner, "ballRadius", ballRadius, " [m]; 0: the zone is the box");
+		vb::requireNonNegative(kOwner, "dropletVolume", dropletVolume, " [m³]; 0: a fine mist");
 		for (int k = 0; k < 3; ++k) vb::requireFinite(kOwner, "nozzle", nozzle[k], "a finite direction (zero: no shadow)");
 	});
 }
@@ -55,8 +56,8 @@ void ViscBridgeSpray::action()
 	// it runs after the integrator: the positions are those of the end of the step, time + dt
 	const Real now = scene->time + scene->dt;
 	accountSprayed(now);
-	if (pending > 0) deliver();
-	if (end >= 0 && now >= end && pending > 1e-3 * sprayed)
+	if (pending > 0) deliver(end >= 0 && now >= end);
+	if (end >= 0 && now >= end && pending > std::max(1e-3 * sprayed, dropletVolume))
 		warnOnce(warnedAfterEnd, "the spray window ended at t = " + fmt(end) + " s with " + fmt(pending) + " m³ (" + fmt(100 * pending / sprayed)
 		                                 + " % of what it sprayed) not yet in a film: it goes to the spheres the spray reaches later, at most maxFilmRel = "
 		                                 + fmt(maxFilmRel) + " of each one's volume");
@@ -102,12 +103,20 @@ void ViscBridgeSpray::weigh()
 	}
 }
 
-void ViscBridgeSpray::deliver()
+void ViscBridgeSpray::deliver(bool windowOver)
 {
 	collectTargets();
 	weigh();
 	const Real offered = pending;
-	pending            = vb::shareWithinRoom(weight, room, offered, given);
+	if (dropletVolume > 0) {
+		// once the window is over, what is left of the last droplet lands as a smaller one
+		const Real    droplet = windowOver ? std::min(dropletVolume, offered) : dropletVolume;
+		std::uint64_t counter = static_cast<std::uint64_t>(droplets);
+		pending               = vb::shareAsDroplets(weight, room, offered, droplet, static_cast<std::uint64_t>(seed), counter, given);
+		droplets              = static_cast<long>(counter);
+	} else {
+		pending = vb::shareWithinRoom(weight, room, offered, given);
+	}
 	receivers          = 0;
 	for (std::size_t i = 0; i < ids.size(); ++i) {
 		if (!(given[i] > 0)) continue;
@@ -115,7 +124,7 @@ void ViscBridgeSpray::deliver()
 		++receivers;
 	}
 	delivered += offered - pending;
-	if (!(pending > 0)) return;
+	if (!(pending > 0) || (dropletVolume > 0 && pending < dropletVolume)) return; // less than a droplet waits for the next
 	if (std::any_of(weight.begin(), weight.end(), [](double w) { return w > 0; }))
 		warnOnce(warnedFull, "every sphere it reaches holds maxFilmRel = " + fmt(maxFilmRel) + " of its volume: " + fmt(pending)
 		                             + " m³ waits until a sphere with room comes into reach");

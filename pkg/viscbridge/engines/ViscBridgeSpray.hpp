@@ -13,8 +13,8 @@
 namespace yade {
 
 class ViscBridgeSpray : public PeriodicEngine {
-	AttributeRollback<Real, Real, Real, Real, Real, Vector3r> rollback;
-	auto checked() { return std::tie(rate, start, end, maxFilmRel, ballRadius, nozzle); }
+	AttributeRollback<Real, Real, Real, Real, Real, Vector3r, Real> rollback;
+	auto checked() { return std::tie(rate, start, end, maxFilmRel, ballRadius, nozzle, dropletVolume); }
 	viscbridge::SprayShadow shadow; // its buffers, kept between calls
 	std::vector<viscbridge::Vec3> centres;
 	std::vector<double>           radii, weight, room, given;
@@ -26,7 +26,7 @@ class ViscBridgeSpray : public PeriodicEngine {
 	void accountSprayed(Real now);
 	void collectTargets();
 	void weigh();
-	void deliver();
+	void deliver(bool windowOver);
 	void warnOnce(bool& warned, const std::string& what);
 	std::string zoneText() const;
 
@@ -42,7 +42,7 @@ public:
 		"its zone (the box boxMin–boxMax, or the ball of ballRadius about ballCentre) and that the spray reaches: "
 		"droplets travel along ``nozzle`` and wet the first sphere they meet, so each sphere takes in proportion to the "
 		"area it shows the nozzle that no other sphere of the zone hides (the bed's free surface, recomputed as the bed "
-		"moves; L6). No film grows beyond maxFilmRel × its sphere's volume: what a full sphere cannot take goes to the "
+		"moves; L6) — shared as a mist, or as whole droplets of dropletVolume each landing on one sphere (L6b). No film grows beyond maxFilmRel × its sphere's volume: what a full sphere cannot take goes to the "
 		"other reached spheres, and when they are all full it stays ``pending`` until there is room (L7). Liquid "
 		"sprayed while no sphere is reached waits in ``pending`` too, and goes to the first spheres reached, also after "
 		"``end`` — YADE's log says so, once. Spheres made dry (:yref:`ViscBridgeState.wettable` False) hide what is "
@@ -58,6 +58,9 @@ public:
 		((Real,ballRadius,0,Attr::triggerPostLoad,"Radius of the ball zone [m], >= 0; 0: the zone is the box."))
 		((Vector3r,nozzle,Vector3r(0,0,-1),Attr::triggerPostLoad,"The direction the droplets travel (any length). Zero: no shadow — every sphere in the zone takes in proportion to its cross-section, hidden or not."))
 		((Real,maxFilmRel,0.1,Attr::triggerPostLoad,"The largest film the spray builds on a sphere, as a fraction of the sphere's volume, > 0 (L7)."))
+		((Real,dropletVolume,0,Attr::triggerPostLoad,"Volume of one droplet [m³], >= 0. 0: a fine mist — every reached sphere takes its share at each call (L6). Above 0: whole droplets, each landing on one reached sphere drawn with probability in proportion to the area it shows the nozzle, among those it fits on (L6b); less than a droplet waits in pending (after ``end``, it lands as a last smaller droplet). Droplets near a particle's size wet spots that nucleate granules; a mist wets the whole surface."))
+		((long,seed,0,,"Seed of the droplets' draws: droplet k lands where it does from (seed, k) alone, in any run that reaches it (saved, resumed, any number of threads)."))
+		((long,droplets,0,Attr::readonly,"Droplets landed so far (with dropletVolume > 0)."))
 		((Real,sprayed,0,Attr::readonly,"Liquid the nozzle has sprayed so far [m³] (delivered + pending)."))
 		((Real,delivered,0,Attr::readonly,"Liquid put into the particles' films so far [m³]."))
 		((Real,pending,0,Attr::readonly,"Liquid sprayed and not yet in a film [m³]: no sphere was reached, or all were full."))

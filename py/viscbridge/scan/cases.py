@@ -110,12 +110,12 @@ DRUM_DEFAULTS = dict(
     n=300, radius=1e-3, drumRadius=15e-3, length=10e-3, density=2500.0, young=1e7, poisson=0.3, friction=0.5,
     wallFriction=0.8, segments=32, seed=1, froude=0.05, rpm=0.0, viscosity=1.0, liquidModel='film', wetFraction=0.15,
     filmRel=0.02, minBridgeRel=0.002, bridgeVolumeRel=0.01, integration='implicit', revolutions=1.0,
-    sprayRel=0.0, sprayRevolutions=1.0, sprayStart=0.0,
+    sprayRel=0.0, sprayRevolutions=1.0, sprayStart=0.0, sprayDropletRel=0.0,
 )
 # Fields added to drum cases after drum scans were run: left out of a case's key while at their default.
-_DRUM_KEY_OMITS_AT_DEFAULT = ('sprayRel', 'sprayRevolutions', 'sprayStart')
+_DRUM_KEY_OMITS_AT_DEFAULT = ('sprayRel', 'sprayRevolutions', 'sprayStart', 'sprayDropletRel')
 #: The fields that describe the spray, not the drum: each one's argument of Drum.spray.
-DRUM_SPRAY_KEYS = dict(sprayRel='volumeRel', sprayRevolutions='revolutions', sprayStart='start')
+DRUM_SPRAY_KEYS = dict(sprayRel='volumeRel', sprayRevolutions='revolutions', sprayStart='start', sprayDropletRel='dropletRel')
 _DRUM_LIQUID_KEYS = ('viscosity', 'bridgeVolumeRel')
 
 #: Unit, meaning and allowed values of every field of DRUM_DEFAULTS (the ranges scenes.drum accepts).
@@ -147,6 +147,8 @@ DRUM_FIELDS = dict(
     sprayRevolutions=Field('', 'revolutions the spray lasts (its rate: sprayRel of the particles\' volume over them)',
                            Interval(0, lo_open=True)),
     sprayStart=Field('', 'revolution at which the spray starts', Interval(0)),
+    sprayDropletRel=Field('', "the spray's droplet volume over a mean particle's volume (0: a fine mist over the whole "
+                              "reached surface)", Interval(0, 1)),
 )
 
 

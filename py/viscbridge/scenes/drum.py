@@ -69,13 +69,17 @@ class Drum:
         finally:
             O.stopAtTime = 0
 
-    def spray(self, volumeRel, revolutions=1.0, start=0.0, zone=None, nozzle=(0, 0, -1), maxFilmRel=0.1, label='drumSpray'):
+    def spray(self, volumeRel, revolutions=1.0, start=0.0, dropletRel=0.0, zone=None, nozzle=(0, 0, -1), maxFilmRel=0.1,
+              seed=None, label='drumSpray'):
         """Spray binder onto the bed as the drum turns: `volumeRel` × the particles' volume in all,
         at a constant rate over `revolutions` revolutions from revolution `start` on (needs
         liquidModel='film').  Droplets fall along `nozzle` (default straight down) and land on the
         spheres they meet first — the bed's free surface, wherever the cascade has put it
         (physics.md L6) — inside `zone` (``((xmin, ymin, zmin), (xmax, ymax, zmax))`` [m]; default
-        the whole drum); no film beyond `maxFilmRel` of its sphere's volume (L7).  Appends a
+        the whole drum); no film beyond `maxFilmRel` of its sphere's volume (L7).  `dropletRel`: 0, a
+        fine mist over the whole reached surface; above 0, droplets of that fraction of a mean
+        particle's volume, each wetting one sphere (L6b: a droplet near a particle's size wets a spot
+        that nucleates a granule; `seed`, default the drum's, fixes where they land).  Appends a
         :yref:`ViscBridgeSpray` to O.engines (saved with the scene) and returns it; its period is
         1/100 revolution."""
         f = 'Drum.spray'
@@ -87,10 +91,12 @@ class Drum:
         start = _checks.non_negative(f, 'start', start)
         R, L = self.params['drumRadius'], self.params['length']
         box = ((-R, -L / 2, -R), (R, L / 2, R)) if zone is None else zone
+        dropletRel = _checks.in_range(f, 'dropletRel', dropletRel, 0, 1)
         particles = math.fsum(4 / 3 * math.pi * O.bodies[i].shape.radius ** 3 for i in self.spheres)
         engine = liquid.spray(volumeRel * particles / (revolutions * self.period), box=box, start=start * self.period,
                               end=(start + revolutions) * self.period, nozzle=nozzle, maxFilmRel=maxFilmRel,
-                              virtPeriod=self.period / 100, label=label)
+                              dropletVolume=dropletRel * particles / len(self.spheres),
+                              seed=self.params['seed'] if seed is None else seed, virtPeriod=self.period / 100, label=label)
         O.engines = O.engines + [engine]
         return engine
 

@@ -1,6 +1,7 @@
 // Where sprayed binder lands (physics.md §11, L6, L7): droplets travel in straight lines along the
 // nozzle direction and wet the first particle they meet, so a particle receives in proportion to
-// the area it shows the nozzle that no other particle hides (L6); no film grows beyond a cap, the
+// the area it shows the nozzle that no other particle hides (L6) — as a fine mist shared over every
+// reached particle, or as whole droplets each landing on one (L6b); no film grows beyond a cap, the
 // excess goes to the other exposed particles and, when they are all full, waits (L7).  YADE-free:
 // the spray engine (engines/ViscBridgeSpray) applies these rules to the spheres in its zone.
 #pragma once
@@ -8,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -94,6 +96,42 @@ inline double shareWithinRoom(const std::vector<double>& weight, const std::vect
 		amount = 0;
 	}
 	return std::max(0.0, amount);
+}
+
+// A number in [0, 1) from (seed, counter) alone (splitmix64): droplet k of a spray lands where it
+// would in any run that reaches it — after a save and load, on any number of threads.
+inline double counterUniform(std::uint64_t seed, std::uint64_t counter)
+{
+	std::uint64_t z = seed * 0x9E3779B97F4A7C15ULL + counter + 0x632BE59BD9B4E019ULL;
+	z               = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+	z               = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+	z ^= z >> 31;
+	return static_cast<double>(z >> 11) * 0x1.0p-53;
+}
+
+// L6b: `amount` as whole droplets of `droplet` volume, each landing on one receiver drawn with
+// probability proportional to `weight` among those with room for it (L7); droplet k of the spray's
+// life is drawn from counterUniform(seed, k), `counter` counts them.  Writes each receiver's share
+// into `given`; returns what stays (less than a droplet, or droplets no receiver has room for).
+inline double shareAsDroplets(const std::vector<double>& weight, std::vector<double> room, double amount, double droplet, std::uint64_t seed,
+                              std::uint64_t& counter, std::vector<double>& given)
+{
+	const std::size_t n = weight.size();
+	given.assign(n, 0.0);
+	std::vector<double> cumulative(n);
+	auto                open = [&] { // the cumulative weight of the receivers a droplet still fits on
+		double sum = 0;
+		for (std::size_t i = 0; i < n; ++i) cumulative[i] = sum += (weight[i] > 0 && room[i] >= droplet) ? weight[i] : 0.0;
+		return sum;
+	};
+	double total = open();
+	while (amount >= droplet && total > 0) {
+		const double      u = counterUniform(seed, counter++) * total;
+		const std::size_t i = std::min<std::size_t>(n - 1, std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin());
+		given[i] += droplet, room[i] -= droplet, amount -= droplet;
+		if (room[i] < droplet) total = open(); // full for the next droplet
+	}
+	return amount;
 }
 
 } // namespace viscbridge
