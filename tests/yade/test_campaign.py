@@ -127,6 +127,21 @@ def test_a_capillary_sphere_on_a_rising_floor_is_not_stopped():
     campaign.check(RISING_FLOOR_CAPILLARY)
 
 
+# Open defect the campaign found once capillary bridges were drawn on a rising floor (seed 6), kept
+# as a strict xfail: two touching 0.2 mm spheres with Willett bridges at 1000 Pa·s, implicit, on a
+# floor rising at 0.05 m/s: O.energy's balance is off by 6.7 % of the energy through the scene (the
+# floor's work 5.55e-10 J against 5.11e-10 J of kinetic energy, viscous dissipation and gravity).
+# Without the capillary force, explicit, at 100 Pa·s, apart or at 0.01 m/s it closes; the guard does
+# not stop it.  Suspected: the floor's work booked with the implicit force of the step before.
+RISING_FLOOR_IMPLICIT_CAPILLARY = dict(TOUCHING_CAPILLARY_CLUMP, n=2, radius=0.0002, viscosity=1000.0, normalModel='adamsPerchard',
+                                       surfaceTension=0.06640625, integration='implicit', lift=0.05, clump=False)
+
+
+@pytest.mark.xfail(strict=True, reason='open defect: energy balance 6.7 % off, capillary + implicit on a rising floor')
+def test_an_implicit_capillary_pair_on_a_rising_floor_closes_its_balance():
+    campaign.check(RISING_FLOOR_IMPLICIT_CAPILLARY)
+
+
 # Not a defect (2026-12-03, seeds 8 and 9, shrunk): an implicit scene with Goldman's model (here with
 # a clump), saved and resumed, is bit-identical for 65 steps and then drifts to 7e-11 (positions)
 # and 1.3e-9 (velocities) of the largest by step 200.  At step 64 an interaction is erased; the loaded scene's container, which lacks the
