@@ -9,7 +9,7 @@ import pytest
 from yadeproc import run_yade
 
 TOP = os.path.join(os.path.dirname(__file__), '..', '..')
-# the tutorials run in test_tutorial.py, shell blocks too, with their numbers checked
+# the tutorials run in test_tutorial_*.py, shell blocks too, with their numbers checked
 RUN_ELSEWHERE = ('tutorial_granulation.md', 'tutorial_settling.md')
 DOCUMENTS = [os.path.join(TOP, 'README.md')] + sorted(d for d in glob.glob(os.path.join(TOP, 'docs', '*.md'))
                                                       if os.path.basename(d) not in RUN_ELSEWHERE)
