@@ -4,13 +4,9 @@ import re
 
 import pytest
 
-from tutorial_runner import run_tutorial
+from tutorial_runner import tutorial_fixture
 
-
-@pytest.fixture(scope='module')
-def run(tmp_path_factory):
-    work = tmp_path_factory.mktemp('granulation')
-    return work, run_tutorial('tutorial_granulation.md', work)
+run = tutorial_fixture('tutorial_granulation.md')
 
 
 def test_every_block_runs_and_writes_its_files(run):

@@ -1,15 +1,9 @@
 """docs/tutorial_settling.md runs to the end (tutorial_runner.py), and prints what its text states."""
 import re
 
-import pytest
+from tutorial_runner import tutorial_fixture
 
-from tutorial_runner import run_tutorial
-
-
-@pytest.fixture(scope='module')
-def run(tmp_path_factory):
-    work = tmp_path_factory.mktemp('settling')
-    return work, run_tutorial('tutorial_settling.md', work)
+run = tutorial_fixture('tutorial_settling.md')
 
 
 def test_every_block_runs_and_writes_its_files(run):

@@ -5,6 +5,8 @@ tutorial so that ctest runs them side by side."""
 import os
 import re
 
+import pytest
+
 from yadeproc import run_yade
 
 DOCS = os.path.join(os.path.dirname(__file__), '..', '..', 'docs')
@@ -39,3 +41,12 @@ def run_tutorial(name, work):
     (work / 'tutorial.py').write_text(script(name))
     proc, _ = run_yade(str(work / 'tutorial.py'), timeout=1800, cwd=str(work))
     return proc.stdout
+
+
+def tutorial_fixture(name):
+    """A module fixture that runs docs/`name` once and gives (working directory, what it printed)."""
+    @pytest.fixture(scope='module')
+    def run(tmp_path_factory):
+        work = tmp_path_factory.mktemp(name.split('.')[0])
+        return work, run_tutorial(name, work)
+    return run
