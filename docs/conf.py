@@ -54,3 +54,4 @@ html_theme = 'sphinx_rtd_theme'
 html_title = 'ViscBridge manual'
 html_theme_options = {'navigation_depth': 3}
 html_show_sourcelink = False
+html_copy_source = False

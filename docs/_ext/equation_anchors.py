@@ -39,13 +39,18 @@ class EquationAnchors(Transform):
         slugs = getattr(self.document, 'myst_slugs', None)
         if slugs is None:
             slugs = {}
-        for strong in self.document.findall(nodes.strong):
+        for strong in list(self.document.findall(nodes.strong)):
             for label in labels_defined_by(strong.astext()):
                 anchor = label.lower()
                 if anchor in slugs or anchor in self.document.ids:
                     continue  # a later mention, or a heading of that name
-                strong['ids'].append(anchor)
-                self.document.ids[anchor] = strong
+                if strong['ids']:  # "P1, P2": HTML shows one id per element, so P2 gets a span of its own
+                    target = nodes.inline('', '', ids=[anchor])
+                    strong.parent.insert(strong.parent.index(strong), target)
+                else:
+                    target = strong
+                    strong['ids'].append(anchor)
+                self.document.ids[anchor] = target
                 slugs[anchor] = (strong.line or 0, anchor, label)
         self.document.myst_slugs = slugs
         env.metadata[env.docname]['myst_slugs'] = slugs

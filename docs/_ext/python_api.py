@@ -26,7 +26,7 @@ from sphinx.util import logging
 from sphinx.util.docutils import SphinxDirective
 from sphinx.util.nodes import nested_parse_with_titles
 
-from yade_markup import docstring_to_rst
+from yade_markup import docstring_to_rst, report_block_quotes
 
 logger = logging.getLogger(__name__)
 
@@ -142,6 +142,7 @@ class ViscbridgeModules(SphinxDirective):
         parsed = nodes.Element()
         nested_parse_with_titles(self.state, StringList(text, 'viscbridge'), parsed)
         note_aliases(self.env, aliases)
+        report_block_quotes(parsed)
         return parsed.children
 
 

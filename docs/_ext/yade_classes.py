@@ -4,7 +4,7 @@ The classes are those pkg/viscbridge/plugin/Plugin.cpp registers (its YADE_PLUGI
 build time, so a class added there appears by itself); their docstrings, attributes and methods come
 from ``yade.wrapper`` as the built plugin exposes them — what ``help()`` shows in a YADE session.
 For each class: its YADE base classes (linked to YADE's reference), its docstring, every attribute
-it adds (name, type, default, whether read-only, docstring), its Python methods with their
+it adds (name = default, docstring, type, whether read-only or not saved), its Python methods with their
 signatures, and the attributes it inherits from YADE's classes, by name.  The classes are grouped by
 the YADE class they derive from (engines, functors, ...).
 """
@@ -17,7 +17,7 @@ from docutils.statemachine import StringList
 from sphinx.util.docutils import SphinxDirective
 from sphinx.util.nodes import nested_parse_with_titles
 
-from yade_markup import docstring_to_rst
+from yade_markup import docstring_to_rst, report_block_quotes
 
 TOP = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PLUGIN_SOURCE = os.path.join(TOP, 'pkg', 'viscbridge', 'plugin', 'Plugin.cpp')
@@ -94,17 +94,18 @@ def live_default(cls, name, fields):
 def attribute_rst(cls, name, prop):
     text, fields = yade_markup(prop.__doc__)
     flags = int(fields.get('yattrflags') or 0)
-    notes = ['type ``%s``' % fields['yattrtype']] if fields.get('yattrtype') else []
+    notes = ['Type ``%s``' % fields['yattrtype']] if fields.get('yattrtype') else []
     default = live_default(cls, name, fields)
-    notes.append('default ``%s``' % default if default else 'no default')
     if flags & READ_ONLY:
         notes.append('read-only')
     if flags & NO_SAVE:
         notes.append('not saved with the scene')
-    lines = ['.. py:attribute:: %s' % name, '']
+    # the default shows in the signature line, as YADE's reference shows it: maxFilmRel = 0.1
+    lines = ['.. py:attribute:: %s' % name] + (['   :value: %s' % default] if default else []) + ['']
     lines += indent(docstring_to_rst(text) or 'No description.')
-    lines += ['', '   *%s.*' % '; '.join(notes).capitalize(), '']
-    return lines
+    if notes:
+        lines += ['', '   .. container:: yade-attribute-traits', '', '      %s.' % '; '.join(notes)]
+    return lines + ['']
 
 
 def boost_signature(function, static):
@@ -192,6 +193,7 @@ class YadeClasses(SphinxDirective):
         self.env.note_dependency(PLUGIN_SOURCE)
         parsed = nodes.Element()
         nested_parse_with_titles(self.state, StringList(reference_rst(), 'yade.wrapper'), parsed)
+        report_block_quotes(parsed)
         return parsed.children
 
 

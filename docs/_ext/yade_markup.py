@@ -40,6 +40,15 @@ def docstring_to_rst(text):
     return LITERAL_OR_MATH.sub(convert, text)
 
 
+def report_block_quotes(parsed):
+    """Warn of every block quote in generated reference text: in a docstring it is an example whose
+    paragraph does not end with '::', which the manual would show as running text."""
+    for quote in parsed.findall(nodes.block_quote):
+        logger.warning('an indented block that is not code (%s...): end the paragraph before an example '
+                       'with "::", else the manual shows it as running text', ' '.join(quote.astext().split())[:40],
+                       location=quote, type='viscbridge', subtype='block_quote')
+
+
 def split_target(text):
     """(shown text, target) of a role's text: 'O.stopAtTime<Omega.stopAtTime>' or 'ViscBridgeGuard'."""
     m = EXPLICIT.match(text.strip())
