@@ -38,8 +38,9 @@ manual_pages_in_progress = ['getting_started', 'tutorial_settling', 'agglomerate
 myst_heading_anchors = 4
 myst_enable_extensions = ['colon_fence']
 
-# Docstrings write `name` for a parameter or an attribute: shown as code, as in a terminal.
-default_role = 'literal'
+# Docstrings write `name` for a parameter, an attribute or a class: shown as code, linked where it is
+# one of ours (docs/_ext/yade_markup.py).
+default_role = 'yname'
 autodoc_default_options = {'member-order': 'bysource'}
 autodoc_typehints = 'signature'
 # Every reference must resolve (to our reference, or by :yref: to YADE's); -W turns a miss into an error.

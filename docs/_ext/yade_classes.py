@@ -86,7 +86,8 @@ def methods(cls):
 def live_default(cls, name, fields):
     """The default as Python shows it on a new instance, else as the C++ declaration writes it."""
     try:
-        return repr(getattr(cls(), name))
+        value = getattr(cls(), name)
+        return repr(0.0 if value == 0.0 and isinstance(value, float) else value)  # not -0.0
     except Exception:  # a class without a default constructor, an attribute that needs a scene
         return fields.get('ydefault', '')
 

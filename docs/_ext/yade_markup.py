@@ -13,6 +13,9 @@ attribute cannot leave a dead link behind.
 ``:ydefault:`` and ``:yattrtype:`` (YADE appends them to every attribute's docstring; the class
 reference shows them as the attribute's default and type) render as "default: ..." / "type: ...".
 
+``yname``, the default role (conf.py), shows `name` as code and links it where it names one of our
+classes, attributes or functions.
+
 ``$...$`` (LaTeX, as YADE's docstrings write formulas) becomes ``:math:`...``` in docstrings
 (:func:`docstring_to_rst`; the Markdown pages write formulas in Unicode and are left alone).
 """
@@ -77,6 +80,22 @@ def yref_role(name, rawtext, text, lineno, inliner, options=None, content=None):
     return [ref], []
 
 
+def name_role(name, rawtext, text, lineno, inliner, options=None, content=None):
+    """The default role, `name` (docstrings write a parameter, an attribute or a class so): code, and
+    a link where it names something of our reference (`ViscBridgeSpray`,
+    `Ip2_FrictMat_FrictMat_ViscBridgePhys.liquidModel`, `viscbridge.liquid.spray()`)."""
+    from yade_classes import plugin_class_names  # (it uses docstring_to_rst from here)
+    target = normalise(text)
+    first = target.split('.')[0]
+    if first != 'viscbridge' and first not in plugin_class_names():
+        return [nodes.literal(rawtext, text)], []
+    ref = addnodes.pending_xref(rawtext, refdomain='py', reftype='obj', refexplicit=True, soft=True,
+                                reftarget=target if first == 'viscbridge' else 'yade.wrapper.' + target)
+    ref['refdoc'] = inliner.document.settings.env.docname
+    ref += nodes.literal(rawtext, text, classes=['xref', 'py'])
+    return [ref], []
+
+
 def yade_has(target):
     """Whether the running YADE has `target` ('yade.wrapper.Omega.stopAtTime', 'yade.utils.sphere')."""
     parts = target.split('.')
@@ -106,6 +125,8 @@ def missing_reference(app, env, node, contnode):
     from yade_classes import plugin_class_names  # (it uses docstring_to_rst from here)
     if node.get('refdomain') != 'py':
         return None
+    if node.get('soft'):
+        return contnode  # `name` that is not in our reference after all: code, without a link
     target = node['reftarget']
     if not node.get('yref'):
         if node.get('py:module') != 'yade.wrapper' or '.' in target:
@@ -143,6 +164,7 @@ def yattrtype_role(name, rawtext, text, lineno, inliner, options=None, content=N
 
 def setup(app):
     app.add_role('yref', yref_role)
+    app.add_role('yname', name_role)
     app.add_role('ydefault', ydefault_role)
     app.add_role('yattrtype', yattrtype_role)
     app.connect('missing-reference', missing_reference)

@@ -106,6 +106,17 @@ def test_physics_equation_labels_have_anchors(manual):
         assert 'id="%s"' % label in html, label
     # the anchor is on the label's definition, not on its first mention in the introduction
     assert re.search(r'id="p14">P14</strong>', html)
+    assert 'id="sec-7a"' in html
+
+
+def test_the_reference_links_its_citations_of_physics(manual):
+    classes = page(manual, 'reference/classes')
+    guard = classes[classes.index('id="yade.wrapper.ViscBridgeGuard"'):]
+    guard = guard[:guard.index('id="yade.wrapper.ViscBridgeGuard.iterPeriod"')]
+    assert 'href="../physics.html#e5">E5</a>' in guard, guard[-2000:]
+    assert 'href="../physics.html#p14">P14</a>' in guard
+    python = page(manual, 'reference/python')
+    assert 'href="../physics.html#l6b">L6b</a>' in python
 
 
 @pytest.fixture(scope='module')
