@@ -28,7 +28,7 @@ source_suffix = {'.md': 'markdown', '.rst': 'restructuredtext'}
 root_doc = 'index'
 # docs/data, docs/perf and docs/figures hold measurements and figures, not pages (the figures a page
 # shows are still copied: images follow their references, not this list).
-exclude_patterns = ['_build', '_ext', 'data', 'perf', 'figures', '**/__pycache__']
+exclude_patterns = ['_build', '_ext', '_static', 'data', 'perf', 'figures', '**/__pycache__']
 
 # Pages the index lists that are written on other branches: left out of the toctree while they are
 # missing (any other missing page is an error).  Remove a name once its page is merged.
@@ -56,3 +56,5 @@ html_title = 'ViscBridge manual'
 html_theme_options = {'navigation_depth': 3}
 html_show_sourcelink = False
 html_copy_source = False
+html_static_path = ['_static']
+html_css_files = ['viscbridge.css']
