@@ -93,10 +93,12 @@ def test_the_python_reference_documents_the_package(manual):
 
 
 def test_no_role_is_left_unrendered(manual):
+    """A role shows as its text only where a page or a docstring writes it as code (contributing.md
+    explains :yref:); anywhere else it was not parsed."""
     for path in glob.glob(os.path.join(manual, '**', '*.html'), recursive=True):
         with open(path) as fh:
-            text = fh.read()
-        for role in (':yref:', ':ydefault:', ':yattrtype:', '{yref}'):
+            text = re.sub(r'<(code|pre)\b.*?</\1>', '', fh.read(), flags=re.S)
+        for role in (':yref:', ':ydefault:', ':yattrtype:', '{yref}', ':func:', ':class:', ':mod:'):
             assert role not in text, '%s in %s' % (role, os.path.relpath(path, manual))
 
 
