@@ -35,12 +35,23 @@ LITERAL_OR_MATH = re.compile(r'(``.+?``)|(?<![\\$])\$([^$\n]+?)\$(?!\$)')
 
 
 def docstring_to_rst(text):
-    """A YADE-style docstring as reStructuredText: $formula$ as :math:`formula`."""
+    """A YADE-style docstring as reStructuredText: $formula$ as :math:`formula`, except in ``code``
+    and in literal blocks (the indented block after a line ending in '::': a shell's $VARIABLE)."""
     def convert(m):
         if m.group(1):
             return m.group(1)
         return ':math:`%s`' % m.group(2).strip()
-    return LITERAL_OR_MATH.sub(convert, text)
+    out, literal_margin, opens_literal = [], None, None
+    for line in text.split('\n'):
+        margin = len(line) - len(line.lstrip())
+        if line.strip():
+            if literal_margin is not None and margin <= literal_margin:
+                literal_margin = None  # the literal block ended
+            if literal_margin is None and opens_literal is not None and margin > opens_literal:
+                literal_margin = opens_literal  # the block after "::" began
+            opens_literal = margin if literal_margin is None and line.rstrip().endswith('::') else None
+        out.append(line if literal_margin is not None else LITERAL_OR_MATH.sub(convert, line))
+    return '\n'.join(out)
 
 
 def report_block_quotes(parsed):
