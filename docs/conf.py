@@ -36,7 +36,6 @@ manual_pages_in_progress = ['getting_started', 'tutorial_settling', 'agglomerate
 
 # MyST: the pages' [text](#section) and [text](page.md#section) links go to headings of levels 1-4.
 myst_heading_anchors = 4
-myst_enable_extensions = ['colon_fence']
 
 # Docstrings write `name` for a parameter, an attribute or a class: shown as code, linked where it is
 # one of ours (docs/_ext/yade_markup.py).
@@ -45,11 +44,6 @@ autodoc_default_options = {'member-order': 'bysource'}
 autodoc_typehints = 'signature'
 # Every reference must resolve (to our reference, or by :yref: to YADE's); -W turns a miss into an error.
 nitpicky = True
-nitpick_ignore_regex = [
-    # builtins and standard-library types named in signatures and docstrings
-    ('py:(class|obj|exc)', r'(int|float|str|bool|dict|list|tuple|None|object|callable|Path|pathlib\..*|'
-                           r'numpy\..*|argparse\..*|typing\..*|collections\..*)'),
-]
 
 html_theme = 'sphinx_rtd_theme'
 html_title = 'ViscBridge manual'
