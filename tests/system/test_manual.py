@@ -131,7 +131,8 @@ def changed_copy(tmp_path_factory):
     shutil.copy(os.path.join(TOP, 'pkg', 'viscbridge', 'plugin', 'Plugin.cpp'), plugin)
     (root / 'docs' / 'implicit.md').write_text('# The implicit scheme\n\nBackward Euler over the network.\n')
     with open(root / 'docs' / 'liquid.md', 'a') as fh:
-        fh.write('\nSee {yref}`ViscBridgeSpray.noSuchAttribute` and {yref}`NoSuchYadeClass`.\n')
+        fh.write('\nSee {yref}`ViscBridgeSpray.noSuchAttribute` and {yref}`NoSuchYadeClass`; '
+                 '[P14](physics.md#p14), [§7](physics.md#sec-7) and [P99](physics.md#p99).\n')
     out = root / 'html'
     return build(out, '--source', str(root / 'docs')), out
 
@@ -141,6 +142,14 @@ def test_a_warning_fails_the_build_and_every_warning_is_listed(changed_copy):
     assert proc.returncode != 0
     assert 'yade.wrapper.ViscBridgeSpray.noSuchAttribute' in proc.stderr, proc.stderr[-3000:]
     assert re.search(r'NoSuchYadeClass.*YADE \S+ has no yade.wrapper.NoSuchYadeClass', proc.stderr), proc.stderr[-3000:]
+    assert "local id not found in doc 'physics': 'p99'" in proc.stderr, proc.stderr[-3000:]
+
+
+def test_a_page_links_to_an_equation_label_in_markdown(changed_copy):
+    proc, out = changed_copy
+    liquid = (out / 'liquid.html').read_text()
+    assert 'href="physics.html#p14"' in liquid and 'href="physics.html#sec-7"' in liquid
+    assert "'p14'" not in proc.stderr and "'sec-7'" not in proc.stderr
 
 
 def test_a_page_in_progress_is_listed_once_it_exists(changed_copy):
