@@ -132,7 +132,7 @@ def changed_copy(tmp_path_factory):
     (root / 'docs' / 'implicit.md').write_text('# The implicit scheme\n\nBackward Euler over the network.\n')
     with open(root / 'docs' / 'liquid.md', 'a') as fh:
         fh.write('\nSee {yref}`ViscBridgeSpray.noSuchAttribute` and {yref}`NoSuchYadeClass`; '
-                 '[P14](physics.md#p14), [§7](physics.md#sec-7) and [P99](physics.md#p99).\n')
+                 '[P14](physics.md#p14), [§7](physics.md#sec-7) and [a label physics.md lacks](physics.md#p99).\n')
     out = root / 'html'
     return build(out, '--source', str(root / 'docs')), out
 
