@@ -1,4 +1,4 @@
-"""A complete YADE engine list for a wet (viscous liquid bridge) scene.
+"""A complete YADE engine list for a wet (viscous liquid bridge) scene::
 
     from yade import O
     import viscbridge

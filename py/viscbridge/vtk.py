@@ -1,5 +1,7 @@
 """Liquid bridges, particles and the boundary for ParaView, a file per frame and a time series each.
 
+This recorder::
+
     from yade import O
     import viscbridge.vtk
     O.engines = O.engines + [viscbridge.vtk.bridge_recorder('out/wet-', iterPeriod=1000)]

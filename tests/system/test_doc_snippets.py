@@ -1,5 +1,6 @@
-"""Every Python snippet in README.md and docs/*.md runs as shown: the blocks of one document run in
-order in one `yade -n -x` process, as a reader pasting them into a YADE session would."""
+"""Every Python snippet in README.md and the Markdown pages of docs/ (subfolders included, not the
+built manual) runs as shown: the blocks of one document run in order in one `yade -n -x` process, as
+a reader pasting them into a YADE session would."""
 import glob
 import os
 import re
@@ -11,8 +12,9 @@ from yadeproc import run_yade
 TOP = os.path.join(os.path.dirname(__file__), '..', '..')
 # the tutorials run in test_tutorial_*.py, shell blocks too, with their numbers checked
 RUN_ELSEWHERE = ('tutorial_granulation.md', 'tutorial_settling.md')
-DOCUMENTS = [os.path.join(TOP, 'README.md')] + sorted(d for d in glob.glob(os.path.join(TOP, 'docs', '*.md'))
-                                                      if os.path.basename(d) not in RUN_ELSEWHERE)
+PAGES = [p for p in glob.glob(os.path.join(TOP, 'docs', '**', '*.md'), recursive=True)
+         if '_build' not in os.path.relpath(p, TOP).split(os.sep)]
+DOCUMENTS = [os.path.join(TOP, 'README.md')] + sorted(d for d in PAGES if os.path.basename(d) not in RUN_ELSEWHERE)
 
 
 def python_blocks(path):

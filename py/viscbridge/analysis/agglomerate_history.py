@@ -1,6 +1,6 @@
 """Agglomerate statistics over a run: a CSV row per call, the run's parameters beside it, and a plot
 (size distribution at chosen times, granules, granulated mass fraction, granule size, liquid or
-coordination, coalescence and breakage over time or revolutions).
+coordination, coalescence and breakage over time or revolutions)::
 
     from viscbridge.analysis.agglomerate_history import AgglomerateHistory
     d = scenes.drum(viscosity=5.0)

@@ -1,7 +1,7 @@
 """Several runs side by side (:func:`compare`): the agglomerate histories of runs (each an
 ``agglomerates.csv`` of :class:`~viscbridge.analysis.agglomerate_history.AgglomerateHistory` with its
 sidecar ``agglomerates.json``) drawn over each other against revolutions or time, one colour per run,
-labelled by the run parameters that differ between them ("viscosity = 5 Pa·s").
+labelled by the run parameters that differ between them ("viscosity = 5 Pa·s")::
 
     import viscbridge.analysis
     viscbridge.analysis.compare(['runs/mu5', 'runs/mu50'], 'cmp.png')

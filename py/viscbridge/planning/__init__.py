@@ -18,16 +18,16 @@ limits compete (physics.md §3; equation tags P4…P15 as in the code comments o
 :class:`TimeStepCriteria` (a table of :class:`Bound` rows) with the stable step, the step free of
 spurious rebounds, the governing bound and the regime.  The building blocks are public:
 
-=============================  =================================================================
-:func:`rayleigh_time`          T_R = π r √(ρ/G) / (0.1631 ν + 0.876605), G = E/(2(1+ν))
-:func:`rayleigh_dt`            fraction · T_R (fraction 0.2 by default)
-:func:`hertz_collision_time`   t_c = 2.868 (m*²/(r̄ E*² v))^(1/5)
-:func:`viscous_decay_time`     t_v = m*/C^n(S_min)                                          (P12)
-:func:`normal_coefficient`     C^n(S) of Adams–Perchard (P4) or Pitois (P5)
-:func:`tangential_coefficients` C_T, C_R, C_W of Goldman et al. (P8, P9, C_W)
-:func:`pair_limit`             4m*/(C + √(C² + 4m*k))                                       (P13)
-:func:`network_limit`          4/(d + √(d² + 4κ))                                           (P14)
-=============================  =================================================================
+===============================  =================================================================
+:func:`rayleigh_time`            T_R = π r √(ρ/G) / (0.1631 ν + 0.876605), G = E/(2(1+ν))
+:func:`rayleigh_dt`              fraction · T_R (fraction 0.2 by default)
+:func:`hertz_collision_time`     t_c = 2.868 (m*²/(r̄ E*² v))^(1/5)
+:func:`viscous_decay_time`       t_v = m*/C^n(S_min)                                          (P12)
+:func:`normal_coefficient`       C^n(S) of Adams–Perchard (P4) or Pitois (P5)
+:func:`tangential_coefficients`  C_T, C_R, C_W of Goldman et al. (P8, P9, C_W)
+:func:`pair_limit`               4m*/(C + √(C² + 4m*k))                                       (P13)
+:func:`network_limit`            4/(d + √(d² + 4κ))                                           (P14)
+===============================  =================================================================
 
 Conventions (physics.md §1): r̄ = r_i r_j/(r_i + r_j), m* = m_i m_j/(m_i + m_j); against a wall
 r̄ = r and m* = m.  All quantities in SI units.  The constants are those of the C++ kernels

@@ -1,5 +1,5 @@
 """The capillary force of a liquid bridge (physics.md §8; Capillary.hpp): Lian's rupture distance
-(P11), the pull of Willett (P19) or Rabinovich (P20) at a gap, its stiffness |dF/dS| (P22) and the
+(P11), the pull of Willett (P19) or Rabinovich (P20) at a gap, its stiffness $|dF/dS|$ (P22) and the
 largest stiffness the time step takes.  Plain Python, the same formulas as the C++ kernels.
 """
 import math
@@ -81,12 +81,12 @@ def capillary_force(model, r_bar, surface_tension, contact_angle, bridge_volume,
 
 
 def capillary_stiffness(model, r_bar, surface_tension, contact_angle, bridge_volume, gap):
-    """|dF/dS| of the capillary pull at gap S (P22; 0 in overlap) [N/m]."""
+    """$|dF/dS|$ of the capillary pull at gap S (P22; 0 in overlap) [N/m]."""
     return _capillary(model, r_bar, surface_tension, contact_angle, bridge_volume)[1](gap)
 
 
 def capillary_max_stiffness(model, r_bar, surface_tension, contact_angle, bridge_volume, s_rup):
-    """The largest |dF/dS| over 0 < S ≤ S_rup (P22), as the time step takes it: Willett's in closed
+    """The largest $|dF/dS|$ over 0 < S ≤ S_rup (P22), as the time step takes it: Willett's in closed
     form (at s⁺ with 600 s⁺² + 126 s⁺ − 11.18 = 0), Rabinovich's sampled (log-uniform, +5 %)."""
     force, stiffness = _capillary(model, r_bar, surface_tension, contact_angle, bridge_volume)
     if model == 'willett':

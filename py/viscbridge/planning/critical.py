@@ -34,22 +34,22 @@ def critical_dt(radius, density, young, poisson, viscosity, *, radius2=None, wal
     is dry: no viscous bound.  ``restitution`` is the dry contact's ``en`` (1: no contact damping).
 
     Bounds (C^n, C_T, C_R, C_W at S_min; k_n = 2E*√(r̄δ), k_t = 8G*√(r̄δ) at the maximum overlap
-    δ_max = (15 m* v²/(16 E* √r̄))^(2/5) of a head-on collision at ``impact_velocity``):
+    δ_max = (15 m* v²/(16 E* √r̄))^(2/5) of a head-on collision at ``impact_velocity``)::
 
-    rayleigh             0.2 T_R                                  stability  (usual DEM criterion)
-    hertz_collision      t_c                                      info
-    elastic_pair         2√(m*/k_n)                               stability  (P13, C = 0)
-    viscous_pair         2 t_v = 2 m*/C^n                         stability  (P12)
-    viscous_no_rebound   t_v                                      design     (P12)
-    coupled_pair         4m*/(C + √(C² + 4m*k_n)), C = C^n + c_n  stability  (P13)
-    tangential_*         per tangential model (§3 "Tangential pair")  stability
-                         slip:    2m*/((1+β)C_T) ≈ 0.571 m*/C_T, β = 2.5 (1 + S_min/2r)² (mid-gap arms)
-                         washino: 2m*/(C_T + 2.5 C_R) and 0.8 m*/C_R
-                         goldman: 2m*/C_T, 0.8 m*/C_W and the exact 2/λ_max of
-                                  [[C_T, C_R], [2.5 C_R, 2.5 C_W]]/m*
-    network              4/(d + √(d² + 4κ)), z contacts per particle              stability (P14)
-    network_dashpot      2/d                                      stability  (P14)
-    network_no_reversal  1/d                                      design     (P14)
+        rayleigh             0.2 T_R                                  stability  (usual DEM criterion)
+        hertz_collision      t_c                                      info
+        elastic_pair         2√(m*/k_n)                               stability  (P13, C = 0)
+        viscous_pair         2 t_v = 2 m*/C^n                         stability  (P12)
+        viscous_no_rebound   t_v                                      design     (P12)
+        coupled_pair         4m*/(C + √(C² + 4m*k_n)), C = C^n + c_n  stability  (P13)
+        tangential_*         per tangential model (§3 "Tangential pair")  stability
+                             slip:    2m*/((1+β)C_T) ≈ 0.571 m*/C_T, β = 2.5 (1 + S_min/2r)² (mid-gap arms)
+                             washino: 2m*/(C_T + 2.5 C_R) and 0.8 m*/C_R
+                             goldman: 2m*/C_T, 0.8 m*/C_W and the exact 2/λ_max of
+                                      [[C_T, C_R], [2.5 C_R, 2.5 C_W]]/m*
+        network              4/(d + √(d² + 4κ)), z contacts per particle              stability (P14)
+        network_dashpot      2/d                                      stability  (P14)
+        network_no_reversal  1/d                                      design     (P14)
 
     with d = z (C^n + c_n + w_t (C_t + c_s))(1/m_i + 1/m_j), κ = z (k_n + 3.5 k_t)(1/m_i + 1/m_j),
     1/m_j = 0 for a wall, C_t = C_T (slip, goldman), max(C_T, C_R) (washino), 0 (none); w_t = 3.5,

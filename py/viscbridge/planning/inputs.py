@@ -9,9 +9,13 @@ from .. import _registry
 __all__ = ['NORMAL_MODELS', 'TANGENTIAL_MODELS', 'CAPILLARY_MODELS', 'INTEGRATIONS']
 
 # The model names are those the C++ registry lists (core/models/Registry.hpp, via _registry.py).
+#: The names ``normal_model`` (the Ip2's ``normalModel``) accepts.
 NORMAL_MODELS = _registry.SLOTS['normalModel']['models']
+#: The names ``tangential_model`` (the Ip2's ``tangentialModel``) accepts.
 TANGENTIAL_MODELS = _registry.SLOTS['tangentialModel']['models']
+#: The names ``capillary_model`` (the Ip2's ``capillaryModel``) accepts.
 CAPILLARY_MODELS = _registry.SLOTS['capillaryModel']['models']
+#: The schemes ``integration`` accepts (the law's ``integration``).
 INTEGRATIONS = _registry.INTEGRATIONS
 
 

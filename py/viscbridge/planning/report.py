@@ -1,4 +1,4 @@
-"""The result of :func:`critical_dt`: a table of :class:`Bound` rows and what they imply
+"""The result of :func:`~viscbridge.criteria.critical_dt`: a table of :class:`Bound` rows and what they imply
 (:class:`TimeStepCriteria`: the stable step, the step free of spurious rebounds, the governing bound
 and the regime), and its text form.  Plain Python.
 """
@@ -25,7 +25,7 @@ class Bound:
 
 @dataclass
 class TimeStepCriteria:
-    """The result of :func:`critical_dt`: every bound, and what they imply.
+    """The result of :func:`~viscbridge.criteria.critical_dt`: every bound, and what they imply.
 
     stability_limit   min over 'stability' bounds: the largest stable Δt (apply a safety factor)
     no_rebound_limit  min(stability_limit, min over 'design' bounds)

@@ -8,7 +8,7 @@ the stiffest viscous state — and released under gravity with small random velo
 `steps` steps at a fixed Δt.  **Instability criterion** (:func:`viscbridge.measures.instability`):
 the kinetic energy exceeds the initial kinetic energy plus the potential energy released since the
 start, or becomes NaN/inf.  Physics cannot do that; an explicit scheme above its stable step does,
-because the unstable mode grows by a factor |1 − Δt/t_v| > 1 per step.
+because the unstable mode grows by a factor $|1 − Δt/t_v|$ > 1 per step.
 
 The drum case (``--kind drum``, :data:`DRUM_FIELDS`): :func:`viscbridge.scenes.drum` built from the
 case and turned for `revolutions` (:mod:`.drum_trial`); its agglomerate history goes to
@@ -33,7 +33,7 @@ that fail are listed with their error and make the command exit non-zero.
 
 Modules: :mod:`.cases` (fields, checks, keys, sets of cases, of each kind), :mod:`.bisection`,
 :mod:`.beds` (the cached dry beds), :mod:`.trial` (one settling case inside YADE),
-:mod:`.drum_trial` (one drum case), :mod:`.table` (the yade-batch table and :data:`JOB_SCRIPT`, the
+:mod:`.drum_trial` (one drum case), :mod:`.table` (the yade-batch table and :data:`~viscbridge.scan.table.JOB_SCRIPT`, the
 job script :mod:`.job`), :mod:`.results`, :mod:`.batch` (yade-batch runs), :mod:`.slurm`,
 :mod:`.errors` and :mod:`.cli` (``__main__``).
 """

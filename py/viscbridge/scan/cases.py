@@ -57,6 +57,8 @@ class Interval(collections.namedtuple('Interval', 'lo hi lo_open hi_open')):
 
 
 Field = collections.namedtuple('Field', 'unit meaning allowed')
+"""A field of a case: its unit ('' for a number without unit or a name), its meaning, and the values
+it allows (an :class:`Interval`, or a tuple of names), as ``--help`` lists them."""
 
 
 def _ip2_range(name):

@@ -12,7 +12,8 @@ __all__ = ['SLURM_TEMPLATE', 'slurm_script']
 #: The directory holding py/viscbridge/ (the repository, for the hint to run the job with ./yadew).
 _REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 
-
+#: The Slurm batch script :func:`slurm_script` fills in (``{table}``, ``{n}``, ``{last}``,
+#: ``{scan_dir}``, ``{repo}``, ``{job}``): an array job of one task per line of the scan's table.
 SLURM_TEMPLATE = """#!/bin/bash
 # Slurm array job for the ViscBridge scan table {table} ({n} cases).
 # Every task runs one table line with the same job script yade-batch uses; results are appended to

@@ -1,5 +1,5 @@
 """Ready-made scenes: particles settling under gravity through viscous liquid bridges
-(:func:`settling`), and a wet granulation drum (:func:`drum`, :mod:`.drum`).
+(:func:`settling`), and a wet granulation drum (:func:`drum`, which returns a :class:`Drum` handle)::
 
     import viscbridge.scenes as scenes
     s = scenes.settling(n=300, viscosity=1.0)      # builds the scene in O

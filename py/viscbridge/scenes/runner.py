@@ -1,6 +1,6 @@
 """The handle of a settling scene living in O (:class:`Settling`): its measures, runs that log the
 history and stop when the run turns unstable or ViscBridgeGuard stops it, settling until rest, and
-saving the history.  The runs log through a PyRunner whose command calls :func:`_log`.
+saving the history.  The runs log through a PyRunner whose command calls ``_log``.
 """
 import os
 
