@@ -30,10 +30,6 @@ root_doc = 'index'
 # shows are still copied: images follow their references, not this list).
 exclude_patterns = ['_build', '_ext', '_static', 'data', 'perf', 'figures', '**/__pycache__']
 
-# Pages the index lists that are written on other branches: left out of the toctree while they are
-# missing (any other missing page is an error).  Remove a name once its page is merged.
-manual_pages_in_progress = ['getting_started', 'tutorial_settling', 'agglomerates', 'implicit']
-
 # MyST: the pages' [text](#section) and [text](page.md#section) links go to headings of levels 1-4.
 myst_heading_anchors = 4
 
