@@ -1,0 +1,151 @@
+# Cost of a drum revolution against the number of spheres: viscbridge.scenes.drum with its defaults
+# (1 mm spheres, Fr = 0.05, 15 % of the spheres wetted, μ = 1 Pa·s, implicit, the time stepper on),
+# at a drum radius grown with the number of spheres so that the fill stays 0.35 (length 10 r).
+#
+#   ./yadew run bench/drum_cost.py [N ...] [--models film,fixed] [--rounds 3]
+#                                            (default: 300 1000 3000 10000 spheres, both models)
+#
+# For every liquid model and size, one process builds the drum and lets the bed land: it runs until
+# 1.5 × the free-fall time of the highest sphere onto the drum's bottom, sqrt(2 h / g), and saves the
+# scene in bench/.cache/drum/.  Then ROUNDS interleaved rounds (every configuration once per round,
+# each in its own `yade -n -j1` process: one thread, the process's peak memory its own) load the
+# saved bed, run WARM steps (the implicit solver's first factorisation after a load) and measure a
+# window of steps with YADE's engine timers (common.engine_seconds_per_step; window_steps(n): about 3·10⁵
+# sphere-steps, 30 steps at 10⁴ spheres).  The fastest round is kept, as everywhere in bench/
+# (common.interleaved); the slowest is written beside it.
+#
+#   steps per revolution  the drum's period / the mean time step over the window (the stepper's)
+#   seconds per step      engine time over the window / its steps
+#   hours per revolution  their product / 3600: turning the drum once, one thread
+#   bridges               interactions holding a liquid bridge at the end of the window
+#   peak RSS              the measuring process's maximum resident set (getrusage; YADE included)
+#
+# Data: docs/perf/drum_cost.csv.  The whole bench (both models, four sizes, 3 rounds) took about
+# 35 min on the development VM, most of it landing the 10⁴-sphere beds.
+import json
+import math
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(sys.argv[0]))  # yade -x: __file__ is yade's own
+sys.path.insert(0, HERE)
+import common  # noqa: E402
+
+RADIUS, FILL, LENGTH_RADII, SOLID_FRACTION = 1e-3, 0.35, 10, 0.6
+SIZES = (300, 1000, 3000, 10000)
+MODELS = ('film', 'fixed')
+ROUNDS, WARM = 3, 5
+CACHE = os.path.join(common.CACHE, 'drum')
+
+
+def drum_radius(n):
+    """The drum radius at which `n` spheres fill FILL of the drum at SOLID_FRACTION (scenes.drum's rule, inverted)."""
+    length = LENGTH_RADII * RADIUS
+    return math.sqrt(n * 4 / 3 * math.pi * RADIUS ** 3 / (FILL * SOLID_FRACTION * math.pi * length))
+
+
+def window_steps(n):
+    """Steps measured per round: about 3·10⁵ sphere-steps, at least 30."""
+    return max(30, int(3e5 / n))
+
+
+def scene_path(model, n):
+    return os.path.join(CACHE, '%s_%d.yade.gz' % (model, n))
+
+
+def land(model, n, out):
+    """Build the drum, let the bed land, save it; write what the measuring runs need to `out`."""
+    from yade import O
+    import viscbridge.scenes as scenes
+    drum = scenes.drum(radius=RADIUS, drumRadius=drum_radius(n), fill=FILL, liquidModel=model)
+    O.trackEnergy = False
+    bottom = -drum.params['drumRadius']
+    top = max(O.bodies[i].state.pos[2] for i in drum.spheres)
+    landing = 1.5 * math.sqrt(2 * (top - bottom) / 9.81)
+    start = time.perf_counter()
+    drum.run(duration=landing)
+    os.makedirs(CACHE, exist_ok=True)
+    O.save(scene_path(model, n))
+    json.dump(dict(spheres=len(drum.spheres), drumRadius=drum.params['drumRadius'], period=drum.period, rpm=drum.params['rpm'],
+                   landing_time=landing, landing_steps=O.iter, landing_wall_seconds=time.perf_counter() - start), open(out, 'w'))
+
+
+def measure(model, n, out):
+    """One round: load the landed bed, WARM steps, then the window; the row to `out`."""
+    from yade import O
+    import viscbridge.measures as measures
+    O.load(scene_path(model, n))
+    O.run(WARM, True)
+    steps = window_steps(n)
+    t0 = O.time
+    seconds = common.engine_seconds_per_step(steps)
+    json.dump(dict(seconds_per_step=seconds, dt=(O.time - t0) / steps, window_steps=steps, bridges=measures.bridge_count(),
+                   peak_rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024), open(out, 'w'))
+
+
+def worker(action, model, n):
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, 'r.json')
+        done = subprocess.run(['yade', '-n', '-j1', '-x', os.path.join(HERE, 'drum_cost.py'), '--' + action, model, str(n), out],
+                              capture_output=True, text=True)
+        if done.returncode != 0 or not os.path.exists(out):
+            raise RuntimeError('drum_cost %s %s %d failed:\n%s' % (action, model, n, done.stdout[-3000:] + done.stderr[-3000:]))
+        return json.load(open(out))
+
+
+def main(sizes, models, rounds):
+    began = time.perf_counter()
+    configs = [(m, n) for m in models for n in sizes]
+    landed = {}
+    for c in configs:
+        landed[c] = worker('land', *c)
+        print('%-5s %6d spheres landed: %d steps, %.3f s simulated, %.0f s wall' % (
+            c[0], landed[c]['spheres'], landed[c]['landing_steps'], landed[c]['landing_time'], landed[c]['landing_wall_seconds']), flush=True)
+    samples = {c: [] for c in configs}
+    for r in range(rounds):
+        for c in configs:
+            s = worker('measure', *c)
+            samples[c].append(s)
+            print('round %d %-5s %6d spheres: %.4f s/step (dt %.3g s, %d bridges, %.0f MB)' % (
+                r + 1, c[0], n_of(landed[c]), s['seconds_per_step'], s['dt'], s['bridges'], s['peak_rss_mb']), flush=True)
+    rows = []
+    for c in configs:
+        best = min(samples[c], key=lambda s: s['seconds_per_step'])
+        slowest = max(s['seconds_per_step'] for s in samples[c])
+        steps_per_rev = landed[c]['period'] / best['dt']
+        rows.append(dict(liquidModel=c[0], spheres=landed[c]['spheres'], drum_radius_mm=1e3 * landed[c]['drumRadius'],
+                         rpm=landed[c]['rpm'], period_s=landed[c]['period'], dt=best['dt'], steps_per_revolution=steps_per_rev,
+                         seconds_per_step=best['seconds_per_step'], seconds_per_step_slowest=slowest,
+                         hours_per_revolution=steps_per_rev * best['seconds_per_step'] / 3600, bridges=best['bridges'],
+                         peak_rss_mb=max(s['peak_rss_mb'] for s in samples[c]), window_steps=best['window_steps'], rounds=rounds,
+                         landing_time_s=landed[c]['landing_time']))
+    print('\ncost of a revolution, one thread, fastest of %d interleaved rounds:' % rounds)
+    print('%-5s %7s %12s %10s %10s %9s %8s' % ('model', 'spheres', 'steps/rev', 's/step', 'h/rev', 'bridges', 'RSS MB'))
+    for r in rows:
+        print('%-5s %7d %12.0f %10.4f %10.3f %9d %8.0f' % (r['liquidModel'], r['spheres'], r['steps_per_revolution'],
+                                                         r['seconds_per_step'], r['hours_per_revolution'], r['bridges'], r['peak_rss_mb']))
+    print('written', common.write_rows(os.path.join(common.RESULTS, 'drum_cost.csv'), rows))
+    print('bench took %.1f min' % ((time.perf_counter() - began) / 60))
+
+
+def n_of(landed):
+    return landed['spheres']
+
+
+if len(sys.argv) > 1 and sys.argv[1] in ('--land', '--measure'):
+    (land if sys.argv[1] == '--land' else measure)(sys.argv[2], int(sys.argv[3]), sys.argv[4])
+else:
+    args, sizes, models, rounds = sys.argv[1:], [], list(MODELS), ROUNDS
+    while args:
+        a = args.pop(0)
+        if a == '--models':
+            models = args.pop(0).split(',')
+        elif a == '--rounds':
+            rounds = int(args.pop(0))
+        else:
+            sizes.append(int(a))
+    main(sizes or list(SIZES), models, rounds)
