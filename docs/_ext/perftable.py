@@ -14,17 +14,30 @@ is looked up in ``perf/`` beside it), options, then one line per column:
     wall_seconds / steps * 1e3 | ms per step | %.2f
     ```
 
-One number in running text, by the ``perf`` role: ``FILE|WHERE|EXPRESSION|FORMAT`` (the format
-optional), whose WHERE must select exactly one row::
+One number in running text, by the ``perf`` role: ``FILE|WHERE|EXPRESSION|FORMAT|BASE`` (format
+and base optional), whose WHERE must select exactly one row::
 
     {perf}`settling_cost_1threads.csv|viscosity=100,run=viscbridge implicit|ratio_to_yade|%.2f`
+
+(The ``|`` would split a Markdown table's cell: in tables, use the directive.)
+
+Ratios between rows: a table's ``:base:`` (a WHERE) and ``:match:`` (columns) give every row the one
+row that BASE selects among those with the same values in the MATCH columns, and ``base.COLUMN`` in
+an expression reads it; for the role, BASE is a WHERE that selects one row::
+
+    ```{perf-table} perf/peer_liggghts.csv
+    :where: run=viscbridge implicit
+    :base: run=liggghts
+    :match: spheres, viscosity
+    base.wall_seconds / wall_seconds | LIGGGHTS ÷ ViscBridge | %.0f
+    ```
 
 WHERE: conditions joined by ``,``, each ``column OP value`` with OP one of ``= != < <= > >=``;
 values compare as numbers when both sides are numbers (``viscosity=100`` matches ``100.0``), as
 text otherwise; ``column=a;b`` matches either; ``column=`` an empty cell.  Empty: every row.
 
 EXPRESSION: a column name, or arithmetic (``+ - * / **``, parentheses, numbers, ``min``, ``max``,
-``abs``) over column names — a derived column, e.g. ``explicit_critical_seconds / cheapest_seconds``.
+``abs``) over column names and ``base.COLUMN`` — a derived column, e.g. ``explicit_critical_seconds / cheapest_seconds``.
 
 FORMAT: a printf format (``%.2f``, ``%.3g``, ``%d``, ``%s``; literal text around it is kept:
 ``%.1f s``), or ``int`` (rounded, thousands apart: 85 320), or ``sci`` / ``sci2`` / ``sci3``
@@ -59,10 +72,10 @@ class PerfError(LookupError):
 # CSV files
 # ------------------------------------------------------------------------------------------------
 
-def resolve(path, base=None):
-    """The absolute path of `path`: relative to `base` (default: docs/); a bare file name not
-    found there is looked up in base/perf/."""
-    base = DOCS if base is None else base
+def resolve(path, docs=None):
+    """The absolute path of `path`: relative to the directory `docs` (default: docs/); a bare file
+    name not found there is looked up in docs/perf/."""
+    base = DOCS if docs is None else docs
     candidates = [path] if os.path.isabs(path) else [os.path.join(base, path)]
     if not os.path.isabs(path) and os.path.dirname(path) == '':
         candidates.append(os.path.join(base, 'perf', path))
@@ -75,10 +88,10 @@ def resolve(path, base=None):
 _cache = {}
 
 
-def load(path, base=None):
+def load(path, docs=None):
     """The rows of a CSV file as dicts of strings (header → cell), in file order; cached until the
     file changes."""
-    full = resolve(path, base)
+    full = resolve(path, docs)
     stamp = os.stat(full).st_mtime_ns
     hit = _cache.get(full)
     if hit and hit[0] == stamp:
@@ -172,12 +185,23 @@ _ARITH = {ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, 
 _FUNCS = {'min': min, 'max': max, 'abs': abs}
 
 
-def evaluate(row, expression, name='the row'):
+def evaluate(row, expression, name='the row', base=None):
     """The value of `expression` in `row`: a column's cell as it is (text), or arithmetic over
-    columns as a float (an empty cell makes it NaN)."""
+    columns as a float (an empty cell makes it NaN); ``base.COLUMN`` is a cell of the row `base`
+    (the reference row of a ratio, see :func:`table`)."""
     expression = expression.strip()
     if expression in row:
         return row[expression]
+
+    def cell(source, column, label):
+        if column not in source:
+            raise PerfError('perf: %s has no column %r (columns: %s)' % (name, column, ', '.join(source)))
+        x = _number(source[column])
+        if x is None:
+            if (source[column] or '').strip() == '':
+                return math.nan
+            raise PerfError('perf: %s, %scolumn %r: %r is not a number' % (name, label, column, source[column]))
+        return x
     try:
         tree = ast.parse(expression, mode='eval')
     except SyntaxError:
@@ -189,14 +213,11 @@ def evaluate(row, expression, name='the row'):
         if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)):
             return float(node.value)
         if isinstance(node, ast.Name):
-            if node.id not in row:
-                raise PerfError('perf: %s has no column %r (columns: %s)' % (name, node.id, ', '.join(row)))
-            x = _number(row[node.id])
-            if x is None:
-                if (row[node.id] or '').strip() == '':
-                    return math.nan
-                raise PerfError('perf: %s, column %r: %r is not a number' % (name, node.id, row[node.id]))
-            return x
+            return cell(row, node.id, '')
+        if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == 'base':
+            if base is None:
+                raise PerfError('perf: %r uses base.%s, but no base row is given (:base:)' % (expression, node.attr))
+            return cell(base, node.attr, 'base row, ')
         if isinstance(node, ast.BinOp) and type(node.op) in _ARITH:
             a, b = ev(node.left), ev(node.right)
             try:
@@ -207,7 +228,8 @@ def evaluate(row, expression, name='the row'):
             return -ev(node.operand) if isinstance(node.op, ast.USub) else ev(node.operand)
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in _FUNCS and not node.keywords:
             return float(_FUNCS[node.func.id](*[ev(a) for a in node.args]))
-        raise PerfError('perf: %r: only column names, numbers, + - * / **, min, max and abs are allowed' % expression)
+        raise PerfError('perf: %r: only column names, base.COLUMN, numbers, + - * / **, min, max and abs are allowed'
+                        % expression)
 
     return ev(tree)
 
@@ -265,29 +287,51 @@ def format_value(x, fmt=None):
 # The two ways in: one value, a table
 # ------------------------------------------------------------------------------------------------
 
-def value(path, where, column, fmt=None, base=None):
-    """One number in running text: `column` (a column or an expression) of the single row of
-    `path` that `where` selects, formatted (:func:`format_value`).  The README's test uses it
-    too: ``value('settling_cost_1threads.csv', 'viscosity=100,run=viscbridge implicit', 'ratio_to_yade', '%.2f')``."""
-    rows = load(path, base)
+def _one(rows, where):
     chosen = select(rows, where)
     if len(chosen) != 1:
         raise PerfError('perf: %s: %r selects %d rows, not one%s' % (
             rows.name, where, len(chosen), '' if not chosen else ' (add a condition)'))
-    return format_value(evaluate(chosen[0], column, rows.name), fmt)
+    return chosen[0]
 
 
-def table(path, columns, where=None, base=None):
+def value(path, where, column, fmt=None, docs=None, base=None):
+    """One number in running text: `column` (a column or an expression) of the single row of
+    `path` that `where` selects, formatted (:func:`format_value`); `base`, a second WHERE selecting
+    one row, is the row ``base.COLUMN`` reads.  The README's test uses it too:
+    ``value('settling_cost_1threads.csv', 'viscosity=100,run=viscbridge implicit', 'ratio_to_yade', '%.2f')``."""
+    rows = load(path, docs)
+    reference = _one(rows, base) if base else None
+    return format_value(evaluate(_one(rows, where), column, rows.name, reference), fmt)
+
+
+def table(path, columns, where=None, docs=None, base=None, match=()):
     """A table of `path`'s rows that `where` selects: (headers, rows of formatted cells), with
-    `columns` a list of (expression, header, format) (or the lines of :func:`parse_columns`)."""
-    rows = load(path, base)
+    `columns` a list of (expression, header, format) (or the lines of :func:`parse_columns`).
+    `base` (a WHERE) and `match` (columns) give each row a reference row, the one row that `base`
+    selects among those equal to it in every `match` column, which ``base.COLUMN`` reads: e.g.
+    base ``run=liggghts``, match ``spheres, viscosity``, column ``base.wall_seconds / wall_seconds``."""
+    rows = load(path, docs)
+    match = [m.strip() for m in match.split(',')] if isinstance(match, str) else list(match)
+    match = [m for m in match if m]
     columns = parse_columns(columns) if isinstance(columns, str) else [parse_column(c) if isinstance(c, str) else c for c in columns]
     if not columns:
         raise PerfError('perf: %s: a table needs at least one column' % rows.name)
     chosen = select(rows, where)
     if not chosen:
         raise PerfError('perf: %s: %r selects no row' % (rows.name, where))
-    body = [[format_value(evaluate(r, e, rows.name), f) for e, _, f in columns] for r in chosen]
+    references = select(rows, base) if base else None
+    body = []
+    for r in chosen:
+        reference = None
+        if references is not None:
+            same = [b for b in references if all(_matches(b[m] or '', '=', [r[m] or '']) for m in match)]
+            if len(same) != 1:
+                raise PerfError('perf: %s: base %r%s selects %d rows for the row %s, not one' % (
+                    rows.name, base, ' with the same ' + ', '.join(match) if match else '', len(same),
+                    ', '.join('%s=%s' % (m, r[m]) for m in match) or str(r)))
+            reference = same[0]
+        body.append([format_value(evaluate(r, e, rows.name, reference), f) for e, _, f in columns])
     return [h for _, h, _ in columns], body
 
 
@@ -309,11 +353,13 @@ def parse_columns(text):
 
 
 def parse_role(text):
-    """``'FILE|WHERE|EXPRESSION|FORMAT'`` (format optional) → (file, where, expression, format)."""
+    """``'FILE|WHERE|EXPRESSION|FORMAT|BASE'`` (format and base optional) → (file, where,
+    expression, format, base)."""
     parts = [p.strip() for p in text.split('|')]
-    if len(parts) not in (3, 4) or not parts[0] or not parts[2]:
-        raise PerfError('perf: %r is not FILE|WHERE|COLUMN|FORMAT' % text)
-    return parts[0], parts[1], parts[2], (parts[3] or None) if len(parts) == 4 else None
+    if len(parts) not in (3, 4, 5) or not parts[0] or not parts[2]:
+        raise PerfError('perf: %r is not FILE|WHERE|COLUMN|FORMAT (|BASE)' % text)
+    parts += [''] * (5 - len(parts))
+    return parts[0], parts[1], parts[2], parts[3] or None, parts[4] or None
 
 
 # ------------------------------------------------------------------------------------------------
@@ -355,13 +401,14 @@ def references(markdown):
     return found
 
 
-def check_reference(reference, base=None):
+def check_reference(reference, docs=None):
     """Raise PerfError if a reference (from :func:`references`) does not resolve; else return what
     it renders (the table's (headers, rows), or the value's text)."""
     if reference[0] == 'table':
         _, _, path, options, content = reference
-        return table(path, parse_columns(content), options.get('where'), base)
-    return value(*parse_role(reference[2]), base=base)
+        return table(path, parse_columns(content), options.get('where'), docs, options.get('base'), options.get('match', ''))
+    path, where, column, fmt, base = parse_role(reference[2])
+    return value(path, where, column, fmt, docs, base)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -376,15 +423,17 @@ def _directive():
         """``perf-table``: a CSV of docs/perf rendered as a table when the manual is built."""
         required_arguments = 1
         has_content = True
-        option_spec = {'where': directives.unchanged, 'class': directives.class_option}
+        option_spec = {'where': directives.unchanged, 'base': directives.unchanged, 'match': directives.unchanged,
+                       'class': directives.class_option}
 
         def run(self):
             env = self.state.document.settings.env
-            base = os.path.dirname(env.doc2path(env.docname))
+            here = os.path.dirname(env.doc2path(env.docname))
             try:
-                full = resolve(self.arguments[0], base)
+                full = resolve(self.arguments[0], here)
                 env.note_dependency(full)
-                headers, body = table(full, parse_columns(self.content), self.options.get('where'), base)
+                headers, body = table(full, parse_columns(self.content), self.options.get('where'), here,
+                                      self.options.get('base'), self.options.get('match', ''))
             except PerfError as e:
                 raise self.error('%s (in %s)' % (e, env.docname))
             tab = nodes.table(classes=['perf-table'] + self.options.get('class', []))
@@ -409,11 +458,11 @@ def perf_role(name, rawtext, text, lineno, inliner, options=None, content=None):
     """``perf``: one number of a CSV of docs/perf, in running text."""
     from docutils import nodes
     env = inliner.document.settings.env
-    base = os.path.dirname(env.doc2path(env.docname))
+    here = os.path.dirname(env.doc2path(env.docname))
     try:
-        path, where, column, fmt = parse_role(text)
-        env.note_dependency(resolve(path, base))
-        return [nodes.Text(value(path, where, column, fmt, base))], []
+        path, where, column, fmt, reference = parse_role(text)
+        env.note_dependency(resolve(path, here))
+        return [nodes.Text(value(path, where, column, fmt, here, reference))], []
     except PerfError as e:
         message = inliner.reporter.error('%s (in %s)' % (e, env.docname), line=lineno)
         problem = inliner.problematic(rawtext, rawtext, message)
