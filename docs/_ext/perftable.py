@@ -40,8 +40,10 @@ EXPRESSION: a column name, or arithmetic (``+ - * / **``, parentheses, numbers, 
 ``abs``) over column names and ``base.COLUMN`` — a derived column, e.g. ``explicit_critical_seconds / cheapest_seconds``.
 
 FORMAT: a printf format (``%.2f``, ``%.3g``, ``%d``, ``%s``; literal text around it is kept:
-``%.1f s``), or ``int`` (rounded, thousands apart: 85 320), or ``sci`` / ``sci2`` / ``sci3``
-(n significant digits as a·10ⁿ).  Exponents print as ·10ⁿ.  Default: ``%.3g`` for numbers, the cell's
+``%.1f s``), or ``int`` (rounded, thousands apart: 85 320), ``sig2`` / ``sig3`` … (n significant digits,
+no exponent: 4 270, 5.56), or ``sci`` / ``sci2`` / ``sci3``
+(n significant digits as a·10ⁿ), or ``map:A=text;B=other`` (a cell's value A printed as `text`:
+``map:True=projected;False=``).  Exponents print as ·10ⁿ, in text cells too.  Default: ``%.3g`` for numbers, the cell's
 text otherwise; an empty or NaN cell prints as ``–``.
 
 The same functions serve without Sphinx (tests/unit, and the README's test, which GitHub renders
@@ -247,6 +249,12 @@ def _pretty_exponents(text):
 
 def format_value(x, fmt=None):
     """`x` (a cell's text or a number) printed with `fmt` (see the module's documentation)."""
+    if fmt is not None and fmt.startswith('map:'):
+        table = dict(pair.partition('=')[::2] for pair in fmt[4:].split(';'))
+        key = x if isinstance(x, str) else format_value(x)
+        if key.strip() not in table:
+            raise PerfError('perf: %r is not one of the values of format %r' % (key, fmt))
+        return table[key.strip()]
     if isinstance(x, str):
         if x.strip() == '':
             return EMPTY
@@ -254,7 +262,7 @@ def format_value(x, fmt=None):
         if number is None or fmt in ('%s', 'text'):
             if fmt not in (None, '%s', 'text'):
                 raise PerfError('perf: %r is not a number, format %r' % (x, fmt))
-            return x
+            return _pretty_exponents(x)
         x = number
     if x is None or (isinstance(x, float) and math.isnan(x)):
         return EMPTY
@@ -262,6 +270,14 @@ def format_value(x, fmt=None):
         fmt = '%.3g'
     if fmt == 'int':
         return '{:,d}'.format(int(round(x))).replace(',', '\u202f')
+    m = re.fullmatch(r'sig(\d)', fmt)
+    if m:  # n significant digits, no exponent, thousands apart: 4266.4 → 4 270, 5.561 → 5.56
+        digits = int(m.group(1))
+        if x == 0 or math.isinf(x):
+            return '%g' % x
+        decimals = max(0, digits - 1 - int(math.floor(math.log10(abs(x)))))
+        rounded = round(x, digits - 1 - int(math.floor(math.log10(abs(x)))))
+        return '{:,.{}f}'.format(rounded, decimals).replace(',', '\u202f')
     m = re.fullmatch(r'sci(\d?)', fmt)
     if m:
         digits = int(m.group(1) or 3)
@@ -272,7 +288,10 @@ def format_value(x, fmt=None):
         if abs(mantissa) >= 10:
             mantissa, exponent = mantissa / 10, exponent + 1
         text = ('%.*f' % (digits - 1, mantissa)).rstrip('0').rstrip('.') if digits > 1 else '%d' % mantissa
-        return text if exponent == 0 else '%s·10%s' % (text, str(exponent).translate(_SUPERSCRIPT))
+        if exponent == 0:
+            return text
+        power = '10' + str(exponent).translate(_SUPERSCRIPT)
+        return power if text == '1' else '%s·%s' % (text, power)
     if fmt == '%s':
         return _pretty_exponents('%s' % x)
     if '%' not in fmt:

@@ -59,10 +59,17 @@ def test_value_formats_and_derives(docs):
     assert v('runs.csv', 'viscosity=1,run=explicit', 'dt', 'sci', docs) == '1.02·10⁻⁷'
     assert v('runs.csv', 'viscosity=100,run=explicit', 'wall_seconds / 3600', '%.1f h', docs) == '3.3 h'
     assert v('runs.csv', 'viscosity=1,run=implicit', 'steps', '%d', docs) == '11556'
+    assert v('runs.csv', 'viscosity=100,run=explicit', 'steps / 23.07', 'sig3', docs) == '4\u202f270\u202f000'
+    assert v('runs.csv', 'viscosity=1,run=implicit', 'steps / 2078.4', 'sig3', docs) == '5.56'
     assert v('runs.csv', 'viscosity=1,run=implicit', 'run', None, docs) == 'implicit'
     assert v('runs.csv', 'viscosity=1,run=implicit', 'ratio', None, docs) == '1.28'  # %.3g by default
     assert v('runs.csv', 'viscosity=1,run=explicit', 'ratio', '%.2f', docs) == '–'  # empty cell
     assert v('runs.csv', 'viscosity=1,run=explicit', 'ratio * 2', '%.2f', docs) == '–'  # empty in an expression
+    assert v('runs.csv', 'viscosity=1,run=explicit', 'note', 'map:projected=*;=', docs) == '*'
+    assert v('runs.csv', 'viscosity=1,run=explicit', 'dt * 1e7 / 1.02', 'sci1', docs) == '1'
+    assert v('runs.csv', 'viscosity=1,run=explicit', 'dt / 1.02', 'sci1', docs) == '10⁻⁷'
+    with pytest.raises(perftable.PerfError, match='not one of the values'):
+        v('runs.csv', 'viscosity=1,run=implicit', 'run', 'map:explicit=E', docs)
 
 
 def test_table_renders_the_selected_rows(docs):
