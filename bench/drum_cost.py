@@ -2,12 +2,12 @@
 # (1 mm spheres, Fr = 0.05, 15 % of the spheres wetted, μ = 1 Pa·s, implicit, the time stepper on),
 # at a drum radius grown with the number of spheres so that the fill stays 0.35 (length 10 r).
 #
-#   ./yadew run bench/drum_cost.py [N ...] [--models film,fixed] [--rounds 3]
-#                                            (default: 300 1000 3000 10000 spheres, both models)
+#   ./yadew run bench/drum_cost.py [N ... | MODEL:N ...] [--models film,fixed] [--rounds 3] [--reland]
+#        (default: 300 1000 3000 10000 spheres, both models; N: every model of --models, MODEL:N one)
 #
 # For every liquid model and size, one process builds the drum and lets the bed land: it runs until
 # 1.5 × the free-fall time of the highest sphere onto the drum's bottom, sqrt(2 h / g), and saves the
-# scene in bench/.cache/drum/.  Then ROUNDS interleaved rounds (every configuration once per round,
+# scene in bench/.cache/drum/ (a bed landed before is reused unless --reland).  Then ROUNDS interleaved rounds (every configuration once per round,
 # each in its own `yade -n -j1` process: one thread, the process's peak memory its own) load the
 # saved bed, run WARM steps (the implicit solver's first factorisation after a load) and measure a
 # window of steps with YADE's engine timers (common.engine_seconds_per_step; window_steps(n): about 3·10⁵
@@ -77,14 +77,24 @@ def land(model, n, out):
 def measure(model, n, out):
     """One round: load the landed bed, WARM steps, then the window; the row to `out`."""
     from yade import O
+    import yade.wrapper as yw
     import viscbridge.measures as measures
     O.load(scene_path(model, n))
+    landed = dict(spheres=sum(1 for b in O.bodies if isinstance(b.shape, yw.Sphere)), landing_time=O.time, landing_steps=O.iter)
     O.run(WARM, True)
     steps = window_steps(n)
     t0 = O.time
     seconds = common.engine_seconds_per_step(steps)
     json.dump(dict(seconds_per_step=seconds, dt=(O.time - t0) / steps, window_steps=steps, bridges=measures.bridge_count(),
-                   peak_rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024), open(out, 'w'))
+                   peak_rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, **landed), open(out, 'w'))
+
+
+def period(n):
+    """The revolution time of the drum of `n` spheres [s] (scenes.drum's default Froude number)."""
+    import inspect
+    import viscbridge.scenes as scenes
+    froude = inspect.signature(scenes.drum).parameters['froude'].default
+    return 2 * math.pi / math.sqrt(froude * 9.81 / drum_radius(n))
 
 
 def worker(action, model, n):
@@ -97,21 +107,25 @@ def worker(action, model, n):
         return json.load(open(out))
 
 
-def main(sizes, models, rounds):
+def main(configs, rounds, reland=False):
     began = time.perf_counter()
-    configs = [(m, n) for m in models for n in sizes]
-    landed = {}
     for c in configs:
-        landed[c] = worker('land', *c)
-        print('%-5s %6d spheres landed: %d steps, %.3f s simulated, %.0f s wall' % (
-            c[0], landed[c]['spheres'], landed[c]['landing_steps'], landed[c]['landing_time'], landed[c]['landing_wall_seconds']), flush=True)
+        if reland or not os.path.exists(scene_path(*c)):
+            r = worker('land', *c)
+            print('%-5s %6d spheres landed: %d steps, %.3f s simulated, %.0f s wall' % (
+                c[0], r['spheres'], r['landing_steps'], r['landing_time'], r['landing_wall_seconds']), flush=True)
+        else:
+            print('%-5s %6d spheres: landed bed reused (%s; --reland to make it anew)' % (c[0], c[1], scene_path(*c)), flush=True)
+    landed = {}
     samples = {c: [] for c in configs}
     for r in range(rounds):
         for c in configs:
             s = worker('measure', *c)
             samples[c].append(s)
+            landed[c] = dict(spheres=s['spheres'], landing_time=s['landing_time'], drumRadius=drum_radius(c[1]), period=period(c[1]))
+            landed[c]['rpm'] = 60 / landed[c]['period']
             print('round %d %-5s %6d spheres: %.4f s/step (dt %.3g s, %d bridges, %.0f MB)' % (
-                r + 1, c[0], n_of(landed[c]), s['seconds_per_step'], s['dt'], s['bridges'], s['peak_rss_mb']), flush=True)
+                r + 1, c[0], s['spheres'], s['seconds_per_step'], s['dt'], s['bridges'], s['peak_rss_mb']), flush=True)
     rows = []
     for c in configs:
         best = min(samples[c], key=lambda s: s['seconds_per_step'])
@@ -132,22 +146,24 @@ def main(sizes, models, rounds):
     print('bench took %.1f min' % ((time.perf_counter() - began) / 60))
 
 
-def n_of(landed):
-    return landed['spheres']
-
-
 if os.path.basename(sys.argv[0]) != 'drum_cost.py':
     pass  # imported (tests, another bench): nothing to run
 elif len(sys.argv) > 1 and sys.argv[1] in ('--land', '--measure'):
     (land if sys.argv[1] == '--land' else measure)(sys.argv[2], int(sys.argv[3]), sys.argv[4])
 else:
-    args, sizes, models, rounds = sys.argv[1:], [], list(MODELS), ROUNDS
+    args, sizes, models, rounds, reland = sys.argv[1:], [], list(MODELS), ROUNDS, False
     while args:
         a = args.pop(0)
         if a == '--models':
             models = args.pop(0).split(',')
         elif a == '--rounds':
             rounds = int(args.pop(0))
+        elif a == '--reland':
+            reland = True
         else:
-            sizes.append(int(a))
-    main(sizes or list(SIZES), models, rounds)
+            sizes.append(a)
+    configs = []
+    for a in sizes or [str(n) for n in SIZES]:
+        model, _, n = a.rpartition(':')
+        configs += [(model, int(n))] if model else [(m, int(n)) for m in models]
+    main(configs, rounds, reland)
