@@ -2,17 +2,19 @@
 # (1 mm spheres, Fr = 0.05, 15 % of the spheres wetted, μ = 1 Pa·s, implicit, the time stepper on),
 # at a drum radius grown with the number of spheres so that the fill stays 0.35 (length 10 r).
 #
-#   ./yadew run bench/drum_cost.py [N ... | MODEL:N ...] [--models film,fixed] [--rounds 3] [--reland]
-#        (default: 300 1000 3000 10000 spheres, both models; N: every model of --models, MODEL:N one)
+#   ./yadew run bench/drum_cost.py [N ... | MODEL:N ...] [--models film,fixed] [--rounds 5] [--reland]
+#        (default: film liquid at 300, 1000, 3000 and 10 000 spheres, fixed liquid at 300, 1000 and
+#        3000; N: every model of --models, MODEL:N one model)
 #
 # For every liquid model and size, one process builds the drum and lets the bed land: it runs until
 # 1.5 × the free-fall time of the highest sphere onto the drum's bottom, sqrt(2 h / g), and saves the
-# scene in bench/.cache/drum/ (a bed landed before is reused unless --reland).  Then ROUNDS interleaved rounds (every configuration once per round,
-# each in its own `yade -n -j1` process: one thread, the process's peak memory its own) load the
-# saved bed, run WARM steps (the implicit solver's first factorisation after a load) and measure a
-# window of steps with YADE's engine timers (common.engine_seconds_per_step; window_steps(n): about 3·10⁵
-# sphere-steps, 30 steps at 10⁴ spheres).  The fastest round is kept, as everywhere in bench/
-# (common.interleaved); the slowest is written beside it.
+# scene in bench/.cache/drum/ (a bed landed before is reused unless --reland).  Then ROUNDS
+# interleaved rounds (every configuration once per round, each in its own `yade -n -j1` process: one
+# thread, the process's peak memory its own) load the saved bed, run WARM steps (the implicit
+# solver's first factorisation after a load) and measure a window of steps with YADE's engine
+# timers (common.engine_seconds_per_step; window_steps(n): about 10⁶ sphere-steps, 100 steps at 10⁴
+# spheres).  The fastest round is kept, as everywhere in bench/ (common.interleaved); the slowest is
+# written beside it.
 #
 #   steps per revolution  the drum's period / the mean time step over the window (the stepper's)
 #   seconds per step      engine time over the window / its steps
@@ -20,8 +22,11 @@
 #   bridges               interactions holding a liquid bridge at the end of the window
 #   peak RSS              the measuring process's maximum resident set (getrusage; YADE included)
 #
-# Data: docs/perf/drum_cost.csv.  The whole bench (both models, four sizes, 3 rounds) took about
-# 35 min on the development VM, most of it landing the 10⁴-sphere beds.
+# Data: docs/perf/drum_cost.csv.  The default run took about 27 min on the development VM (2 shared
+# cores, busy with others' builds): landing the beds 23 min — the 10⁴-sphere film bed 13 min, the
+# 3000-sphere fixed one 7.5 min — and the 5 rounds 4 min.  Fixed liquid (every contact a bridge)
+# costs about six times the film's per step while landing, so its 10⁴-sphere bed (fixed:10000) is left
+# out of the default.
 import json
 import math
 import os
@@ -38,7 +43,8 @@ import common  # noqa: E402
 RADIUS, FILL, LENGTH_RADII, SOLID_FRACTION = 1e-3, 0.35, 10, 0.6
 SIZES = (300, 1000, 3000, 10000)
 MODELS = ('film', 'fixed')
-ROUNDS, WARM = 3, 5
+DEFAULT = [('film', n) for n in SIZES] + [('fixed', n) for n in SIZES if n <= 3000]
+ROUNDS, WARM = 5, 5
 CACHE = os.path.join(common.CACHE, 'drum')
 
 
@@ -49,8 +55,8 @@ def drum_radius(n):
 
 
 def window_steps(n):
-    """Steps measured per round: about 3·10⁵ sphere-steps, at least 30."""
-    return max(30, int(3e5 / n))
+    """Steps measured per round: about 10⁶ sphere-steps, at least 100."""
+    return max(100, int(1e6 / n))
 
 
 def scene_path(model, n):
@@ -163,7 +169,7 @@ else:
         else:
             sizes.append(a)
     configs = []
-    for a in sizes or [str(n) for n in SIZES]:
+    for a in sizes:
         model, _, n = a.rpartition(':')
         configs += [(model, int(n))] if model else [(m, int(n)) for m in models]
-    main(configs, rounds, reland)
+    main(configs or DEFAULT, rounds, reland)
