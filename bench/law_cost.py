@@ -2,7 +2,7 @@
 # law, ViscBridge's law with every viscous effect off, each effect alone, all effects, and YADE's
 # implicit lubrication law, as ratios to the dry YADE step measured in the same process.
 #
-#   ./yadew run bench/law_cost.py [N ...]        (default: 1000 and 4000 spheres; 1 thread)
+#   ./yadew run bench/law_cost.py [N ...]        (default: 1000 and 4000 spheres; 1 thread; 1–3 min per size)
 #   ./yadew run -j2 bench/law_cost.py 1000       (the same with 2 threads)
 import os
 import sys

@@ -1,7 +1,7 @@
 # A 0.1 s settling run: the implicit scheme at the collision (Hertz) step against the explicit
 # scheme at its critical step, and YADE's own Law2_ScGeom_ImplicitLubricationPhys on the same cloud.
 #
-#   ./yadew run bench/settling_cost.py [MU ...]      (default: 1 100 1000 Pa·s; ~8 min)
+#   ./yadew run bench/settling_cost.py [MU ...]      (default: 1 100 1000 Pa·s; 3–8 min)
 #
 # ViscBridge implicit and YADE run in ROUNDS interleaved rounds (μ by μ, ours then YADE's) and the
 # fastest run of each is kept, as everywhere in bench/ (common.interleaved explains why).
