@@ -1,7 +1,7 @@
 """Cost of viscbridge.agglomerates() and of one AgglomerateHistory row on large random beds, against
 the cost of one time step of the same scene.
 
-    ./yadew run bench/agglomerate_cost.py [N ...]       # default: 10000 100000
+    ./yadew run bench/agglomerate_cost.py [N ...]       # default: 10000 100000; about 2 min
 
 A bed of N spheres (r = 0.5 mm ± 10 %, jittered cubic lattice of pitch 2.1 r: random gaps and a
 coordination of about 5) in a box, liquid bridges formed within formationDistance = 0.3 r.  It

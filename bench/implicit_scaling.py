@@ -3,6 +3,9 @@
 # at μ = 100 Pa·s (Adams–Perchard + slip, bridges from contact), one thread.
 #
 #   ./yadew run bench/implicit_scaling.py [BED:SIZE ...]   (default: random:1000 lattice:1000 lattice:8000)
+#   (the default ~12 min; random:10000 ~15 min the first time, with building the bed; lattice:100000
+#   ~16 min and 12 GB).  Writes docs/perf/implicit_scaling.csv for the default beds, else
+#   implicit_scaling_<BED><SIZE>[_<BED><SIZE> ...].csv (e.g. implicit_scaling_random10000.csv).
 #
 # Beds (both kinds for every size):
 #   random    the settling scene's column settled dry (viscbridge.scan.dry_bed, cached in
@@ -28,6 +31,7 @@ import common  # noqa: E402
 
 R, MU, DT_IMPLICIT, WARM, STEPS, ROUNDS = 0.5e-3, 100.0, 5e-6, 10, 20, 2
 CONFIGS = (('explicit', None), ('implicit', 'cholesky'), ('implicit', 'multigrid'))
+DEFAULT = [('random', 1000), ('lattice', 1000), ('lattice', 8000)]
 LIQUID = dict(viscosity=MU, normalModel='adamsPerchard', tangentialModel='slip')
 
 
@@ -110,10 +114,11 @@ def main(beds):
         print('%-8s %6d %-19s %7.2f µs/particle-step  %5.2f× explicit' % (r['bed'], r['spheres'], r['scheme'], r['us_per_particle_step'],
                                                                          r['versus_explicit']))
     keys = list(dict.fromkeys(k for r in rows for k in r))  # the explicit rows have no solver columns
-    print('written', common.write_rows(os.path.join(common.RESULTS, 'implicit_scaling.csv'), [{k: r.get(k, '') for k in keys} for r in rows]))
+    name = 'implicit_scaling.csv' if beds == DEFAULT else 'implicit_scaling_%s.csv' % '_'.join('%s%d' % b for b in beds)
+    print('written', common.write_rows(os.path.join(common.RESULTS, name), [{k: r.get(k, '') for k in keys} for r in rows]))
 
 
 if len(sys.argv) > 2 and sys.argv[1] == '--worker':
     worker(sys.argv[2], int(sys.argv[3]), sys.argv[4], None if sys.argv[5] == '-' else sys.argv[5], sys.argv[6])
 else:
-    main([(a.split(':')[0], int(a.split(':')[1])) for a in sys.argv[1:]] or [('random', 1000), ('lattice', 1000), ('lattice', 8000)])
+    main([(a.split(':')[0], int(a.split(':')[1])) for a in sys.argv[1:]] or DEFAULT)

@@ -2,7 +2,7 @@
 # law, ViscBridge's law with every viscous effect off, each effect alone, all effects, and YADE's
 # implicit lubrication law, as ratios to the dry YADE step measured in the same process.
 #
-#   ./yadew run bench/law_cost.py [N ...]        (default: 1000 and 4000 spheres; 1 thread)
+#   ./yadew run bench/law_cost.py [N ...]        (default: 1000 and 4000 spheres; 1 thread; 1–3 min per size)
 #   ./yadew run -j2 bench/law_cost.py 1000       (the same with 2 threads)
 import os
 import sys
@@ -55,7 +55,7 @@ for n in sizes:
         print('  %d spheres, %-26s %10.1f µs/step' % (n, config, seconds * 1e6), flush=True)
         return seconds
 
-    median, _ = common.interleaved(CONFIGS, measure)
+    median, samples = common.interleaved(CONFIGS, measure)
     common.load(path, 'vb_all')
     O.run(20, True)
     bridges = sum(1 for i in O.interactions if i.isReal and i.phys.bridge)
@@ -65,6 +65,7 @@ for n in sizes:
     for c in CONFIGS:
         print('%-28s %12.1f %8.3f' % (c, median[c] * 1e6, median[c] / base), flush=True)
         rows.append(dict(spheres=n, threads=O.numThreads, configuration=c, microseconds_per_step=median[c] * 1e6,
-                         ratio_to_yade_mindlin=median[c] / base, contacts=bridges))
+                         ratio_to_yade_mindlin=median[c] / base, contacts=bridges,
+                         slowest_microseconds_per_step=max(x for x in samples[c] if x == x) * 1e6, rounds=len(samples[c])))
 out = common.write_rows(os.path.join(common.RESULTS, 'law_cost_%dthreads.csv' % O.numThreads), rows)
 print('\nwritten', out)

@@ -3,7 +3,7 @@
 # (μ = 1 Pa·s, Adams–Perchard + slip), with the full viscbridge.engines() list (time stepper and
 # guard included), explicit integration.
 #
-#   ./yadew run bench/scaling.py                 (drives one yade process per size and thread count)
+#   ./yadew run bench/scaling.py                 (drives one yade process per size and thread count; ~15 min)
 import json
 import os
 import subprocess

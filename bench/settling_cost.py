@@ -1,7 +1,7 @@
 # A 0.1 s settling run: the implicit scheme at the collision (Hertz) step against the explicit
 # scheme at its critical step, and YADE's own Law2_ScGeom_ImplicitLubricationPhys on the same cloud.
 #
-#   ./yadew run bench/settling_cost.py [MU ...]      (default: 1 100 1000 Pa·s; ~8 min)
+#   ./yadew run bench/settling_cost.py [MU ...]      (default: 1 100 1000 Pa·s; 3–8 min)
 #
 # ViscBridge implicit and YADE run in ROUNDS interleaved rounds (μ by μ, ours then YADE's) and the
 # fastest run of each is kept, as everywhere in bench/ (common.interleaved explains why).
@@ -128,7 +128,7 @@ def yade_run(mu, dt):
                 kinetic_over_released=ke / released if released > 0 else None, unstable=why or '')
 
 
-best, explicit = {}, {}
+best, explicit, slowest = {}, {}, {}
 for r in range(ROUNDS):
     for mu in viscosities:
         ours, scene = implicit_run(mu)
@@ -137,6 +137,7 @@ for r in range(ROUNDS):
         theirs = yade_run(mu, ours['dt'])
         for row in (ours, theirs):
             key = (mu, row['run'])
+            slowest[key] = max(slowest.get(key, 0.0), row['wall_seconds'])
             if key not in best or row['wall_seconds'] < best[key]['wall_seconds']:
                 best[key] = row
         print('round %d μ=%-6g ours %.2f s (CG %.2f it/step), YADE %.2f s' % (
@@ -146,7 +147,10 @@ rows = []
 for mu in viscosities:
     ours, theirs = best[(mu, 'viscbridge implicit')], best[(mu, 'yade ImplicitLubrication')]
     ours['ratio_to_yade'] = ours['wall_seconds'] / theirs['wall_seconds']
+    for row in (ours, theirs):  # the slowest of the rounds: the scatter of this machine
+        row['slowest_wall_seconds'], row['rounds'] = slowest[(mu, row['run'])], ROUNDS
     rows += [ours, explicit[mu], theirs]
+rows = [{k: r.get(k) for k in dict.fromkeys(k for r in rows for k in r)} for r in rows]  # every row every column
 
 out = common.write_rows(os.path.join(common.RESULTS, 'settling_cost_%dthreads.csv' % O.numThreads), rows)
 print('\n0.1 s settling of %d spheres, %d thread(s), fastest of %d interleaved rounds' % (N, O.numThreads, ROUNDS))
