@@ -164,7 +164,7 @@ def liggghts_dt(mu):
     ViscBridge's stepper puts this scene's at 0.36–0.38 of it (the study's bed: 0.37, docs/study.md)
     and takes half, so FRACTION = 0.2 keeps the same margin.  LIGGGHTS has no estimate of the
     network's limit: a user takes such a fraction of the pair's.  (Its loose bed here stays bounded far
-    above: docs/performance.md §9.)"""
+    above: docs/performance.md §4.)"""
     m_star = RHO * 4.0 / 3.0 * math.pi * R ** 3 / 2
     r_bar = R / 2
     viscous = 2 * m_star * S_MIN_REL * r_bar / (6 * math.pi * mu * r_bar ** 2)

@@ -1,5 +1,5 @@
 # What ViscBridgeTimeStepper costs: the step time with the stepper against the same scene at the
-# same fixed Δt without it, in one process, fastest of interleaved rounds (docs/performance.md §4).
+# same fixed Δt without it, in one process, fastest of interleaved rounds (docs/performance.md §2).
 #
 #   ./yadew run bench/stepper_cost.py [LATTICE_SIDE]      (default 46: a 46³ ≈ 10⁵-sphere lattice; ~10 min)
 #

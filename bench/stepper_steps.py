@@ -12,7 +12,7 @@
 # For each: steps, simulated and wall time, kinetic energy, and the final positions (so that two
 # builds can be compared for the same outcome); for the example also the logged row at the end of
 # its default explicit window (0.016 s).  The script uses only viscbridge.scenes and viscbridge.scan
-# as they were before issue 12, so that it runs against that build too (docs/performance.md §6).
+# as they were before issue 12, so that it runs against that build too (docs/performance.md, "Other benchmarks").
 import json
 import os
 import sys

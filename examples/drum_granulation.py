@@ -25,7 +25,7 @@
 # Expected (measured, docs/drum.md): the agglomerates grow and break — 1000 → 384 after one
 # revolution, → 210 after three, the granules holding 68 % and then 84 % of the mass, the largest
 # swinging between 290 and 650 spheres as its necks break and heal; about 630 coalescences and 400
-# breakages over the run.  About 9 min on one thread; where the time goes: docs/performance.md §7.
+# breakages over the run.  About 9 min on one thread; where the time goes: docs/performance.md §5.
 # --quick (or VISCBRIDGE_QUICK=1): 150 spheres in a smaller drum for half a revolution (the tests).
 import os
 import signal

@@ -111,10 +111,10 @@ def test_without_a_period_the_plot_is_against_time_and_revolutions_are_refused(t
     assert (tmp_path / 'agglomerates.csv').read_text().splitlines()[1].split(',')[COLUMNS.index('revolutions')] == 'nan'
 
 
-def test_the_drum_document_lists_every_column():
+def test_the_agglomerates_page_lists_every_column():
     import os
     import re
-    doc = open(os.path.join(os.path.dirname(__file__), '..', '..', 'docs', 'drum.md')).read()
+    doc = open(os.path.join(os.path.dirname(__file__), '..', '..', 'docs', 'agglomerates.md')).read()
     table = doc[doc.index('| column | what it counts |'):doc.index('The sidecar `agglomerates.json`')]
     rows = [line.split('|')[1] for line in table.splitlines()[2:] if line.startswith('|')]
     assert sorted(re.findall(r'`(\w+)`', ' '.join(rows))) == sorted(COLUMNS)  # each column once

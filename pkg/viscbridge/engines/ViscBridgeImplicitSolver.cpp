@@ -429,7 +429,7 @@ std::string ViscBridgeImplicitSolver::automaticKind(const vb::ImplicitViscousSys
 // The preconditioner of kind preconditionerInUse recomputed; the Cholesky factor analysed first, so
 // that 'auto' takes the multigrid instead when the factor would not fit in factorMemoryLimit: the
 // factor is the faster of the two at every size measured, 10³–10⁵ bodies, and the solver's peak
-// memory was 1.5× its factor's at 10⁵ (docs/performance.md §8b).  False: not positive definite.
+// memory was 1.5× its factor's at 10⁵ (docs/performance.md §3).  False: not positive definite.
 bool ViscBridgeImplicitSolver::refreshLagged(const vb::ImplicitViscousSystem& sys, bool samePattern)
 {
 	if (preconditionerInUse == multigrid) {

@@ -2,11 +2,11 @@
 // SuiteSparse's CHOLMOD (through Eigen's CholmodSupport): supernodal where the factor is dense
 // enough, so the factorisation and the sweeps run as dense BLAS kernels on groups of columns, and
 // simplicial (plain loops, no BLAS call per column group) on a sparse factor, where a supernodal
-// sweep is mostly BLAS call overhead (docs/performance.md §2: 300-sphere bed).  The choice is CHOLMOD's
+// sweep is mostly BLAS call overhead (docs/performance.md §4: 300-sphere bed).  The choice is CHOLMOD's
 // own rule, flops per factor entry against `supernodal_switch`, with the switch moved from its
 // default 40 to kSupernodalSwitch.  The fill-reducing order is CHOLMOD's (AMD, or METIS where that
 // fills less).  It replaced a hand-written block factorisation that it beats 9–66× in factorisation
-// and 5–8× in the sweeps from 10³ to 10⁴ bodies (docs/performance.md §8).  YADE-free.
+// and 5–8× in the sweeps from 10³ to 10⁴ bodies (docs/performance.md §3).  YADE-free.
 //
 //   analyse(n, pairs)  the order and the structure of L, for n block rows coupled by `pairs` (i < j)
 //   factorise(A)       the numbers, for a matrix of the analysed pattern
@@ -98,7 +98,7 @@ public:
 	}
 	double solveWork() const { return 4.0 * lnz() / 72.0 * (supernodal() ? 1.0 : kSimplicialSweepTime); }
 	// A simplicial factor's time against a supernodal one's of the same flops, measured on the
-	// 300-sphere settling bed (docs/performance.md §2): its factorisation 1.5× slower (no BLAS-3), its
+	// 300-sphere settling bed (docs/performance.md §4): its factorisation 1.5× slower (no BLAS-3), its
 	// sweeps 0.65× (no BLAS call per supernode).
 	static constexpr double kSimplicialFactorisationTime = 1.5, kSimplicialSweepTime = 0.65;
 
@@ -109,7 +109,7 @@ private:
 		bool                  supernodal() const { return m_cholmodFactor && m_cholmodFactor->is_super; }
 		const cholmod_factor* factor() const { return m_cholmodFactor; }
 	};
-	// Flops per factor entry below which the factor is simplicial.  Measured (docs/performance.md §2):
+	// Flops per factor entry below which the factor is simplicial.  Measured (docs/performance.md §4):
 	// the 300-sphere settling bed (up to ~45) is 12 % faster simplicial (sweeps 1.5× faster, refresh
 	// 1.5× slower); the wetted 1000-sphere random bed (~300) is 3× slower simplicial (refresh 4.5×).
 	static constexpr double kSupernodalSwitch = 100;

@@ -21,7 +21,7 @@ public:
 	// A refresh's cost in CG iterations of a system of `bridges` bridges: the refresh and the assembly
 	// against one iteration (one application and a product), counted in block × vector products from
 	// the structure, so that the decision is the same on every run.  Per bridge, the assembly costs
-	// about 25 and a product 5 of them (wall time on the settling bed, docs/performance.md §2).
+	// about 25 and a product 5 of them (wall time on the settling bed, docs/performance.md §4).
 	double refreshCost(size_t bridges) const
 	{
 		const double b = static_cast<double>(bridges);

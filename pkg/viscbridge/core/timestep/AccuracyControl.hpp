@@ -90,7 +90,7 @@ public:
 	static constexpr double controllerMargin = 0.9;
 	// A4a: the estimate aims at this fraction of the tolerance: calibrated on bench/accuracy_target.py,
 	// where the run's true error was 0.05–10× its estimate — under at low viscosity, over at high
-	// (docs/performance.md §1b)
+	// (docs/performance.md §1)
 	static constexpr double calibration = 0.1;
 	// A4: before any step is known, the run starts at `tolerance` × the stability limit (an error
 	// committed cannot be undone: no step is taken twice), and the controller lets it grow by up to

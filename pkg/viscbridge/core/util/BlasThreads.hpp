@@ -3,7 +3,7 @@
 // OpenMP's pool: after each call its workers spin for a while before they sleep, and on a machine
 // with as many cores as threads they take the cores YADE's OpenMP loops need next.  Measured on two
 // cores, a 10⁴-sphere bed's implicit step took 0.53× on two threads with OpenBLAS's pool busy and
-// 0.98× with OpenBLAS on one thread (docs/performance.md §2).  YADE-free.
+// 0.98× with OpenBLAS on one thread (docs/performance.md §3).  YADE-free.
 //
 //   setBlasThreads(n)   OpenBLAS's threads for the calls that follow (only when it changes);
 //                       false if the process's BLAS is not OpenBLAS (then nothing to set)
