@@ -30,6 +30,7 @@ twice.
 import atexit
 import math
 import os
+import re
 import signal
 import time
 import xml.etree.ElementTree as ET
@@ -247,8 +248,23 @@ class BridgeSeries:
         self.prefix, self.only_bridges = prefix, only_bridges
         self.kinds = ('bridges',) + (('particles',) if particles else ()) + (('boundary',) if boundary else ())
         self.frames = []
-        # the command of its recorder (bridge_recorder): the frame at the end of the recorder's step
-        self.command = 'import viscbridge.vtk; viscbridge.vtk._SERIES[%r].record(after_step=True)' % prefix
+        # the command of its recorder (bridge_recorder): the frame at the end of the recorder's step,
+        # with all a process that loads the saved scene needs to go on with the series (_record)
+        self.command = 'import viscbridge.vtk; viscbridge.vtk._record(%r, %r, %r, %r)' % (
+            _absolute_prefix(prefix), only_bridges, particles, boundary)
+
+    @classmethod
+    def resumed(cls, prefix, only_bridges, particles, boundary):
+        """The series of `prefix` as its collections on disk hold it: for a recorder saved with its
+        scene and run in another process (O.load), which adds frames to the same collections."""
+        series = cls(prefix, only_bridges, particles, boundary)
+        collection = prefix + 'bridges.pvd'
+        if os.path.exists(collection):
+            for entry in ET.parse(collection).getroot().iter('DataSet'):
+                found = re.search(r'\.(\d+)\.vtp$', entry.get('file', ''))
+                if found:
+                    series.frames.append((float(entry.get('timestep')), int(found.group(1))))
+        return series
 
     def path(self, kind, iteration):
         return '%s%s.%010d.vtp' % (self.prefix, kind, iteration)
@@ -286,7 +302,22 @@ class BridgeSeries:
             _write(root, collection)
 
 
-_SERIES = {}
+_SERIES = {}  # by absolute prefix: the series of this process, where their recorders' commands find them
+
+
+def _absolute_prefix(prefix):
+    """`prefix` from the root, its last part kept as given ('out/' stays a directory, 'out/drum-' a name start)."""
+    return os.path.join(os.path.abspath(os.path.dirname(prefix) or '.'), os.path.basename(prefix))
+
+
+def _record(prefix, only_bridges, particles, boundary):
+    """The recorder's command: a frame of the series of `prefix` (absolute) at the end of this step;
+    in a process that loaded the saved scene, the series goes on from its collections on disk."""
+    series = _SERIES.get(prefix)
+    if series is None:
+        series = _SERIES[prefix] = BridgeSeries.resumed(prefix, only_bridges, particles, boundary)
+        _catch_the_end()
+    return series.record(after_step=True)
 
 
 def bridge_recorder(prefix, iterPeriod=None, virtPeriod=None, only_bridges=False, particles=True, boundary=True):
@@ -314,7 +345,7 @@ def bridge_recorder(prefix, iterPeriod=None, virtPeriod=None, only_bridges=False
     else:
         virtPeriod = _checks.positive('bridge_recorder', 'virtPeriod', virtPeriod, ' [s]')
     from yade import O
-    series = _SERIES[prefix] = BridgeSeries(prefix, only_bridges, particles, boundary)
+    series = _SERIES[_absolute_prefix(prefix)] = BridgeSeries(prefix, only_bridges, particles, boundary)
     series.record()  # the state the run starts from
     _catch_the_end()
     if iterPeriod is None:

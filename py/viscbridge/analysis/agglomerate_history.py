@@ -60,9 +60,11 @@ COLUMN_INFO = dict(
                                                   '(viscbridge.liquid.sprayed(); 0 without sprays)'),
     bridges=Column('', 'bridges', 'bridges between two spheres'),
     broken=Column('', 'broken', "agglomerates of the previous row whose spheres now lie in more than one "
-                                "(breakage or erosion since the previous row; 0 in the first row)"),
+                                "(breakage or erosion since the previous row; 0 in the first row, nan in the first "
+                                "row of a process that loaded the saved scene)"),
     merged=Column('', 'merged', 'agglomerates made of spheres of more than one agglomerate of the previous row '
-                                '(coalescence or layering since the previous row; 0 in the first row)'),
+                                '(coalescence or layering since the previous row; 0 in the first row, nan in the '
+                                'first row of a process that loaded the saved scene)'),
 )
 """Every column of the CSV, in order, with its unit, plot label and meaning (the one list of them)."""
 
@@ -167,18 +169,59 @@ class AgglomerateHistory:
         self.period = None if period is None else _checks.positive(f, 'period', period, ' [s]')
         self.params.update(params)
         given_units.update(units)
-        self.csv_path = csv_path
-        self.rows, self.snapshots = [], []
-        self._last, self._runners = None, []
+        self._start(csv_path, [], None)
         os.makedirs(os.path.dirname(os.path.abspath(csv_path)), exist_ok=True)
         with open(csv_path, 'w') as fh:
             fh.write(','.join(COLUMNS) + '\n')
         sidecar = dict(kind=SIDECAR_KIND, csv=os.path.basename(csv_path), period=self.period, params=self.params,
+                       min_force=self.min_force, min_volume=self.min_volume,
                        units={k: given_units.get(k, '') for k in self.params},
                        columns={name: dict(unit=c.unit, meaning=c.meaning) for name, c in COLUMN_INFO.items()})
         with open(sidecar_path(csv_path), 'w') as fh:
             json.dump(sidecar, fh, indent=1, ensure_ascii=False)
             fh.write('\n')
+
+    def _start(self, csv_path, rows, last):
+        """The state of a history about to record its next row after `rows`, `last` the agglomerates of
+        the last one (None: not known)."""
+        self.csv_path, self.rows, self.snapshots, self._rows_loaded = csv_path, rows, [], len(rows)
+        self._last, self._runners = last, []
+        _HISTORIES[os.path.abspath(csv_path)] = self
+        # the command of its recorders (recorder()): with the CSV from the root, so that a process that
+        # loads the saved scene finds the files to go on with (_recorded)
+        self.command = ('import viscbridge.analysis.agglomerate_history; '
+                        'viscbridge.analysis.agglomerate_history._recorded(%r)' % os.path.abspath(csv_path))
+
+    @classmethod
+    def resume(cls, csv_path):
+        """The history that writes `csv_path` in this process: the one made here, or else one that goes on
+        from the CSV and its sidecar — what a recorder saved with its scene uses after ``O.load`` in
+        another process, and what you call there to plot it.  The first row it records has nan
+        transitions (``broken``, ``merged``: the agglomerates of the row before are not saved), and its
+        plot's size distribution shows the rows recorded in this process."""
+        known = _HISTORIES.get(os.path.abspath(csv_path))
+        return known if known is not None else cls._from_files(csv_path)
+
+    @classmethod
+    def _from_files(cls, csv_path):
+        side = sidecar_path(csv_path)
+        if not (os.path.exists(csv_path) and os.path.exists(side)):
+            raise RuntimeError('AgglomerateHistory.resume: no history writes %s in this process, and %s is not there to go '
+                               'on from (a recorder saved with its scene goes on from the CSV and its sidecar); make a new '
+                               'AgglomerateHistory and recorder after O.load (and remove the old recorder from O.engines)'
+                               % (csv_path, csv_path if not os.path.exists(csv_path) else side))
+        with open(side) as fh:
+            sidecar = json.load(fh)
+        history = cls.__new__(cls)
+        history.min_force, history.min_volume = sidecar.get('min_force', 0.0), sidecar.get('min_volume', 0.0)
+        history.period, history.params = sidecar.get('period'), sidecar.get('params', {})
+        with open(csv_path) as fh:
+            header = fh.readline().strip().split(',')
+            rows = [dict(zip(header, (_value(v) for v in line.strip().split(',')))) for line in fh if line.strip()]
+        history._start(csv_path, rows, None)
+        from yade import O
+        history._runners = [e for e in O.engines if getattr(e, 'command', None) == history.command]
+        return history
 
     def record(self, after_step=False):
         """Measure O now and append a row (to ``rows`` and the CSV); returns the row — the last one,
@@ -193,7 +236,10 @@ class AgglomerateHistory:
         for runner in self._runners:
             runner.virtLast, runner.iterLast, runner.nDone = O.time, O.iter, max(runner.nDone, 1)
         a = agglomerates(min_force=self.min_force, min_volume=self.min_volume)
-        broken, merged = transitions(self._last, a) if self._last is not None else (0, 0)
+        if self._last is not None:
+            broken, merged = transitions(self._last, a)
+        else:  # the first row (0), or the first of a resumed history, whose last row's agglomerates are unknown
+            broken, merged = (math.nan, math.nan) if self.rows else (0, 0)
         self._last = a
         row = dict(t=now, iter=iteration, revolutions=now / self.period if self.period else math.nan,
                    **statistics(a), liquid_sprayed=liquid.sprayed(), broken=broken, merged=merged)
@@ -221,16 +267,12 @@ class AgglomerateHistory:
             iterPeriod = _checks.integer('recorder', 'iterPeriod', iterPeriod, minimum=1)
         else:
             virtPeriod = _checks.positive('recorder', 'virtPeriod', virtPeriod, ' [s]')
-        _HISTORIES.append(self)
-        # binds only the name `viscbridge` in the user's namespace (an alias would clobber their own)
-        command = ('import viscbridge.analysis.agglomerate_history; '
-                   'viscbridge.analysis.agglomerate_history._HISTORIES[%d].record(after_step=True)' % (len(_HISTORIES) - 1))
         self.record()  # the state the run starts from
         if iterPeriod is not None:
             # the runner ends steps O.iter + period − 1, + 2·period − 1, ...: rows at O.iter + period, ...
-            runner = yw.ViscBridgeRecorder(iterPeriod=iterPeriod, firstIterRun=O.iter + iterPeriod - 1, command=command)
+            runner = yw.ViscBridgeRecorder(iterPeriod=iterPeriod, firstIterRun=O.iter + iterPeriod - 1, command=self.command)
         else:
-            runner = yw.ViscBridgeRecorder(virtPeriod=virtPeriod, command=command)
+            runner = yw.ViscBridgeRecorder(virtPeriod=virtPeriod, command=self.command)
         self._runners.append(runner)
         return runner
 
@@ -275,6 +317,10 @@ class AgglomerateHistory:
     def _plot_distribution(self, ax, times, plt):
         """The mass distribution over agglomerate size (doubling bins) at `times` [s]."""
         recorded = [t for t, _, _ in self.snapshots]
+        if not recorded:  # a resumed history before its first row in this process
+            ax.text(0.5, 0.5, 'no size distribution recorded\nin this process yet', ha='center', va='center',
+                    transform=ax.transAxes)
+            return
         if times is None:
             picks = sorted({int(round(k * (len(recorded) - 1) / 3)) for k in range(4)})
         else:
@@ -293,7 +339,8 @@ class AgglomerateHistory:
         ax.set_xticklabels(['%d' % lo if lo == hi else '%d–%d' % (lo, hi) for lo, hi in bounds], rotation=45, fontsize=8)
         ax.set_xlabel('agglomerate size [spheres]')
         ax.set_ylabel('mass fraction')
-        ax.set_title('Size distribution (by mass)', fontsize=10)
+        # the sizes of rows recorded by another process are not in the CSV
+        ax.set_title('Size distribution (by mass)' + (', rows since loading' if self._rows_loaded else ''), fontsize=10)
         ax.legend(fontsize=8)
 
 
@@ -302,7 +349,8 @@ def _plot_events(ax, run, x):
     import matplotlib.ticker
     from .comparison import X_AXES
     for column, colour, label in (('merged', 'C0', 'formed by coalescence'), ('broken', 'C3', 'broken')):
-        ax.step(run.columns[x], numpy.cumsum(run.columns[column]), colour, where='post', label=label)
+        # nancumsum: the unknown transitions of a resumed history's first row count as none
+        ax.step(run.columns[x], numpy.nancumsum(run.columns[column]), colour, where='post', label=label)
     ax.set_xlabel(X_AXES[x])
     ax.set_ylabel('agglomerates (summed since the start)')
     ax.set_title('Coalescence and breakage', fontsize=10)
@@ -310,4 +358,15 @@ def _plot_events(ax, run, x):
     ax.legend(fontsize=8)
 
 
-_HISTORIES = []
+def _value(cell):
+    """A CSV cell as it was recorded: an int (counts, steps) or a float."""
+    return int(cell) if cell.lstrip('-').isdigit() else float(cell)
+
+
+_HISTORIES = {}  # by the CSV's absolute path: the histories of this process, where their recorders find them
+
+
+def _recorded(csv_path):
+    """The recorders' command: a row of the history of `csv_path` (absolute) at the end of this step;
+    in a process that loaded the saved scene, the history goes on from its files."""
+    return AgglomerateHistory.resume(csv_path).record(after_step=True)
