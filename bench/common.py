@@ -125,7 +125,7 @@ def random_velocities(speed=0.01, seed=3):
 
 # ViscBridgeImplicitSolver's wall-time counters [s], one per part of its step (the solve's products and
 # preconditioner are parts of timeSolve).
-SOLVER_TIMES = ('timeGather', 'timeFactorise', 'timeSolve', 'timeProducts', 'timePreconditioner', 'timeApply', 'timeEnergy')
+SOLVER_TIMES = ('timeGather', 'timeFactorise', 'timeSolve', 'timeProducts', 'timePreconditioner', 'timeApply', 'timeEnergy', 'timeEstimate')
 
 
 def engine_seconds_per_step(steps):

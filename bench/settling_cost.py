@@ -163,8 +163,8 @@ print('(* projected from the cost of 400 steps)')
 for mu in viscosities:
     ours = best[(mu, 'viscbridge implicit')]
     print('μ=%g: ViscBridge implicit / YADE ImplicitLubrication = %.2f; solver %.2f s of %.2f s (gather %.2f, refresh %.2f, '
-          'solve %.2f = products %.2f + preconditioner %.2f + rest, apply %.2f, energy %.2f), InteractionLoop %.2f s'
+          'solve %.2f = products %.2f + preconditioner %.2f + rest, apply %.2f, energy %.2f, error estimate %.2f), InteractionLoop %.2f s'
           % (mu, ours['ratio_to_yade'], ours['solver_seconds'], ours['wall_seconds'], ours['timeGather'], ours['timeFactorise'],
              ours['timeSolve'], ours['timeProducts'], ours['timePreconditioner'], ours['timeApply'], ours['timeEnergy'],
-             ours['interaction_loop_seconds']))
+             ours['timeEstimate'], ours['interaction_loop_seconds']))
 print('written', out)

@@ -109,6 +109,7 @@ void ViscBridgeImplicitSolver::action()
 	bookEnergy(sys, g, x, R);
 	lap(timeEnergy);
 	if (ViscBridgeContext::hasEngine(scene, "ViscBridgeTimeStepper")) estimateStepError(sys, g.ids, x, pre);
+	lap(timeEstimate);
 }
 
 // What the time stepper's estimate needs of this step (physics.md A1a, A1b): the step's error

@@ -120,7 +120,7 @@ public:
 		"counting it; if that fails too, the run stops with an error.\n\n"
 		"Counters: iterations, totalIterations, products, solves, factorisations (refreshes), fallbacks, "
 		"factorBlocks, factorBytes, refreshCost, preconditionerInUse; and the wall time of each step of the engine (gather, refresh, solve with its "
-		"products and preconditioner, apply, book energy) in timeGather … timeEnergy.\n\n"
+		"products and preconditioner, apply, book energy, the time stepper's error estimate) in timeGather … timeEstimate.\n\n"
 		"Under yade.mpy (docs/cluster.md) it solves one system over all ranks: each rank holds its own bodies' rows, the "
 		"velocities of the neighbours' bodies its bridges touch are exchanged at every CG iteration, and the residual is "
 		"global (same tolerance as serially; preconditioner: each rank's own block, no direct fallback).",
@@ -152,6 +152,7 @@ public:
 		((Real,timePreconditioner,0,Attr::readonly|Attr::noSave,"Wall time of the preconditioner applications inside 'solve' [s]."))
 		((Real,timeApply,0,Attr::readonly|Attr::noSave,"Wall time of the step 'apply': the forces and torques that land Newton on the solution [s]."))
 		((Real,timeEnergy,0,Attr::readonly|Attr::noSave,"Wall time of the step 'book energy': each bridge's reported forces and the viscous work [s]."))
+		((Real,timeEstimate,0,Attr::readonly|Attr::noSave,"Wall time of the step 'estimate': the filtered step error and the relaxed offsets the time stepper's error estimate takes from this step (physics.md A1a, A1b; only with a ViscBridgeTimeStepper) [s]."))
 		// Work of the last solve's forces, booked at the next step, when NewtonIntegrator reports the
 		// kinetic energy of the velocities they produced (the same alignment as the explicit law).
 		// Saved with the scene, so that a run continued after O.save/O.load books the same energy.
