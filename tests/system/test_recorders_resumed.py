@@ -7,25 +7,11 @@ import math
 import os
 import xml.etree.ElementTree as ET
 
+from wetbed import BED
 from yadeproc import run_yade
 
-SCENE = '''
-from yade import O, utils
-import viscbridge, viscbridge.liquid as liquid
-R = 0.5e-3
-O.bodies.append(utils.wall(0, axis=2))
-liquid.make_dry(ids=[0])
-for k in range(2):
-    for j in range(3):
-        for i in range(3):
-            O.bodies.append(utils.sphere(((i + 0.5) * 2 * R, (j + 0.5) * 2 * R, R + k * 2.05 * R), R))
-O.engines = viscbridge.engines(viscosity=10.0, liquidModel='film', integration='implicit')
+SAVE = BED + '''
 liquid.set_film(range(1, 19), 0.02 * 4 / 3 * 3.14159 * R ** 3)
-O.dt = 1e-6
-'''
-
-SAVE = SCENE + '''
-import sys
 import viscbridge.vtk as vtk
 from viscbridge.analysis.agglomerate_history import AgglomerateHistory
 history = AgglomerateHistory('out/agglomerates.csv', period=1e-3)

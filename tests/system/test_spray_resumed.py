@@ -2,22 +2,11 @@
 with a bare IndexError after O.load, and one re-created as the docs said sprayed again from t = 0)."""
 import os
 
+from wetbed import BED
 from yadeproc import run_yade
 
-SAVE = '''
-import json, os, sys
-from yade import O, utils
-import viscbridge, viscbridge.liquid as liquid
-R = 0.5e-3
-O.bodies.append(utils.wall(0, axis=2))
-liquid.make_dry(ids=[0])
-for k in range(2):
-    for j in range(3):
-        for i in range(3):
-            O.bodies.append(utils.sphere(((i + 0.5) * 2 * R, (j + 0.5) * 2 * R, R + k * 2 * R), R))
-O.engines = viscbridge.engines(viscosity=10.0, liquidModel='film', integration='implicit')
+SAVE = BED + '''
 O.engines += [liquid.spray(rate=1e-9, box=((-R, -R, -R), (7 * R, 7 * R, 7 * R)), end=1e-2, iterPeriod=10, label='nozzle')]
-O.dt = 1e-6
 O.run(150, True)
 O.save(sys.argv[1])
 O.run(400, True)
