@@ -150,10 +150,11 @@ def distribution():
     return Distribution(spheres, liquid)
 
 
-def spray(rate, box=None, ball=None, start=0.0, end=math.inf, nozzle=(0, 0, -1), maxFilmRel=0.1, dropletVolume=0.0,
+def spray(rate, box=None, ball=None, start=None, end=math.inf, nozzle=(0, 0, -1), maxFilmRel=0.1, dropletVolume=0.0,
           seed=0, iterPeriod=100, virtPeriod=None, label=''):
     """A :yref:`ViscBridgeSpray` engine that sprays binder at `rate` [m³/s] between the simulated times
-    `start` and `end` [s] onto the spheres in a zone — ``box=((xmin, ymin, zmin), (xmax, ymax, zmax))``
+    `start` (default: now, O.time; not before it, or the binder of the time past would land at
+    once) and `end` [s] onto the spheres in a zone — ``box=((xmin, ymin, zmin), (xmax, ymax, zmax))``
     or ``ball=((x, y, z), radius)`` [m] — that the spray reaches (physics.md L6, L7): droplets travel
     along `nozzle` (default straight down, −z; ``None``: every sphere in the zone, hidden or not) and
     wet the first sphere they meet, so the bed's free surface in the zone takes the liquid, in
@@ -172,7 +173,7 @@ def spray(rate, box=None, ball=None, start=0.0, end=math.inf, nozzle=(0, 0, -1),
     if (box is None) == (ball is None):
         raise ValueError('spray: give exactly one zone, box=((xmin, ymin, zmin), (xmax, ymax, zmax)) or ball=((x, y, z), radius) [m]')
     zone = _box_zone(f, box) if box is not None else _ball_zone(f, ball)
-    start = _checks.non_negative(f, 'start', start, ' [s]')
+    start = _spray_start(f, 'start', start, 1.0, ' [s]')
     if not (isinstance(end, (int, float)) and not isinstance(end, bool) and end > start):
         _checks.reject(f, 'end', end, 'a time after start=%g [s] (inf: no end)' % start)
     direction = (0.0, 0.0, 0.0) if nozzle is None else _vector(f, 'nozzle', nozzle, 'a direction (x, y, z), not zero; None: no shadow')
@@ -187,6 +188,19 @@ def spray(rate, box=None, ball=None, start=0.0, end=math.inf, nozzle=(0, 0, -1),
     else:
         engine.iterPeriod = _checks.integer(f, 'iterPeriod', iterPeriod, minimum=1)
     return engine
+
+
+def _spray_start(func, name, start, unit, text):
+    """The start time [s] of a spray asked for at `start` × `unit` seconds (None: now): not before
+    O.time, whose binder would otherwise land all at once (a start within rounding of now is now)."""
+    from yade import O
+    if start is None:
+        return O.time
+    start = _checks.non_negative(func, name, start, text) * unit
+    if start < O.time * (1 - 1e-12):
+        _checks.reject(func, name, start / unit, '>= %.6g%s, now (O.time = %.6g s; None, the default: now): the binder of '
+                       'the time already past would land at once' % (O.time / unit, text, O.time))
+    return max(start, O.time)
 
 
 def _vector(func, name, value, allowed):

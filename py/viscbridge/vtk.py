@@ -276,6 +276,12 @@ class BridgeSeries:
         at the same step, a frame replaces its files and stays one entry of the collections."""
         from yade import O
         iteration, time_ = (O.iter + 1, O.time + O.dt) if after_step else (O.iter, O.time)
+        if self.frames and max(f[1] for f in self.frames) > iteration:
+            raise RuntimeError(
+                'bridge_recorder: %sbridges.pvd has frames up to step %d, past this scene\'s step %d: the scene was saved '
+                'earlier and run on from there before, or the series belongs to another run. A run branched from a saved '
+                'state needs a series of its own: remove the recorder whose command names this prefix from O.engines and '
+                'make a new vtk.bridge_recorder(...) with another prefix.' % (self.prefix, max(f[1] for f in self.frames), iteration))
         for kind in self.kinds:
             if kind == 'bridges':
                 write_bridges(self.path(kind, iteration), self.only_bridges)
@@ -366,7 +372,8 @@ def flush():
     live = [s for s in _SERIES.values() if s.recording()]
     if live:
         _let_the_step_finish(O)
-    return [s.record() for s in live if not (s.frames and s.frames[-1][1] == O.iter)]
+    # a series with frames past this step is another run's (its recorder raised when it ran): left as it is
+    return [s.record() for s in live if not (s.frames and max(f[1] for f in s.frames) >= O.iter)]
 
 
 def _let_the_step_finish(O):

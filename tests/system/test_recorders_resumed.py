@@ -62,3 +62,34 @@ def test_a_recorder_whose_files_are_gone_says_what_to_do(tmp_path):
     assert proc.returncode != 0
     assert 'agglomerates.json is not there' in proc.stdout + proc.stderr
     assert 'make a new AgglomerateHistory and recorder after O.load' in proc.stdout + proc.stderr
+
+
+def test_a_run_branched_from_an_earlier_save_does_not_write_into_the_first_one(tmp_path):
+    """Loading the same saved scene twice (a second continuation, or a copied run directory) appended
+    the second branch's rows and frames to the first's files, time going backwards, without a word."""
+    saved = str(tmp_path / 'scene.xml.bz2')
+    run_yade(SAVE, saved, cwd=str(tmp_path))
+    load = LOAD.replace("'out/", "'%s/out/" % tmp_path)
+    run_yade(load, saved, cwd=str(tmp_path))
+    before = (tmp_path / 'out' / 'agglomerates.csv').read_text(), (tmp_path / 'out' / 'vtk' / 'bridges.pvd').read_text()
+    proc, _ = run_yade(load, saved, cwd=str(tmp_path), check=False)
+    assert proc.returncode != 0
+    assert 'has rows up to step 320, past this scene\'s step 250' in proc.stdout + proc.stderr
+    assert 'make a new AgglomerateHistory(...) with another file' in proc.stdout + proc.stderr
+    after = (tmp_path / 'out' / 'agglomerates.csv').read_text(), (tmp_path / 'out' / 'vtk' / 'bridges.pvd').read_text()
+    assert after == before
+
+
+def test_a_new_history_over_an_old_csv_says_it_replaces_its_rows(tmp_path):
+    script = BED + """
+import warnings
+from viscbridge.analysis.agglomerate_history import AgglomerateHistory
+AgglomerateHistory('a.csv').record()
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter('always')
+    AgglomerateHistory('a.csv')
+json.dump([str(w.message) for w in caught], open(os.environ['VISCBRIDGE_RESULT'], 'w'))
+"""
+    _, said = run_yade(script, cwd=str(tmp_path))
+    assert said == ["AgglomerateHistory: a.csv had 1 row, now replaced by this new history "
+                    "(AgglomerateHistory.resume('a.csv') would have gone on with them)"]

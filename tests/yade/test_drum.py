@@ -107,6 +107,18 @@ def test_a_drum_sprayed_as_it_turns_wets_the_moving_surface_within_the_cap(tmp_p
         small_drum(liquidModel='fixed').spray(volumeRel=0.02)
 
 
+def test_a_drum_spray_starts_now_and_not_in_the_past():
+    d = small_drum(wetFraction=0.0)
+    d.run(revolutions=0.05)
+    with pytest.raises(ValueError, match=r'Drum.spray: start=0.0 is out of range; allowed: >= 0.05\d* revolutions, now \(O.time = '):
+        d.spray(volumeRel=0.02, revolutions=0.1, start=0)
+    spray = d.spray(volumeRel=0.02, revolutions=0.1)
+    assert spray.start == O.time and spray.end == pytest.approx(O.time + 0.1 * d.period, rel=1e-12)
+    O.step()
+    particles = sum(4 / 3 * math.pi * O.bodies[i].shape.radius ** 3 for i in d.spheres)
+    assert spray.sprayed <= 0.1 * 0.02 * particles * 1.01  # one call's share at most (a start past gave all at once)
+
+
 @pytest.mark.parametrize('integration', ['implicit', 'auto'])
 def test_a_drum_asked_for_accuracy_starts_from_its_bed_at_rest(integration):
     """scenes.drum(accuracy=...) takes the tolerance (it was refused), and its first steps from the

@@ -196,3 +196,18 @@ def test_droplet_draws_are_the_same_after_a_save(tmp_path):
     resumed = [liquid.film(i) for i in ids], liquid.in_bridges(), liquid.sprays()[0].droplets
     assert resumed[0] == pytest.approx(straight[0], rel=1e-12, abs=1e-30)
     assert resumed[1:] == pytest.approx(straight[1:], rel=1e-12) and straight[2] > 10
+
+
+def test_a_spray_starts_now_and_refuses_a_start_already_past():
+    """A spray made during a run with a start already past would have delivered the binder of the
+    time gone by in its first call (a user's drum got all of it in one step); the default is now."""
+    ids = column_bed()
+    O.run(200, True)
+    with pytest.raises(ValueError, match=r"spray: start=0.0 is out of range; allowed: >= [0-9.e-]+ \[s\], now \(O.time = "):
+        liquid.spray(rate=1e-9, box=((-R, -R, -R), (7 * R, 7 * R, 9 * R)), start=0)
+    spray = liquid.spray(rate=1e-9, box=((-R, -R, -R), (7 * R, 7 * R, 9 * R)), iterPeriod=10)
+    assert spray.start == O.time
+    O.engines = O.engines + [spray]
+    O.run(100, True)
+    assert spray.sprayed == pytest.approx(1e-9 * (O.time - spray.start), rel=0.11)  # since it was made, not since t = 0
+    assert liquid.total() == pytest.approx(spray.delivered, rel=1e-12) and len(ids) == 27

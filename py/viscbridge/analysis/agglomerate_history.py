@@ -170,6 +170,7 @@ class AgglomerateHistory:
         self.params.update(params)
         given_units.update(units)
         self._start(csv_path, [], None)
+        _warn_replacing(csv_path)
         os.makedirs(os.path.dirname(os.path.abspath(csv_path)), exist_ok=True)
         with open(csv_path, 'w') as fh:
             fh.write(','.join(COLUMNS) + '\n')
@@ -233,6 +234,12 @@ class AgglomerateHistory:
         iteration, now = (O.iter + 1, O.time + O.dt) if after_step else (O.iter, O.time)
         if self.rows and self.rows[-1]['iter'] == iteration:
             return self.rows[-1]
+        if self.rows and self.rows[-1]['iter'] > iteration:
+            raise RuntimeError(
+                'AgglomerateHistory: %s has rows up to step %d, past this scene\'s step %d: the scene was saved earlier and '
+                'run on from there before, or the file belongs to another run. A run branched from a saved state needs a '
+                'history of its own: remove the recorder whose command names this file from O.engines and make a new '
+                'AgglomerateHistory(...) with another file.' % (self.csv_path, self.rows[-1]['iter'], iteration))
         for runner in self._runners:
             runner.virtLast, runner.iterLast, runner.nDone = O.time, O.iter, max(runner.nDone, 1)
         a = agglomerates(min_force=self.min_force, min_volume=self.min_volume)
@@ -356,6 +363,19 @@ def _plot_events(ax, run, x):
     ax.set_title('Coalescence and breakage', fontsize=10)
     ax.yaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))  # counts
     ax.legend(fontsize=8)
+
+
+def _warn_replacing(csv_path):
+    """A warning when a new history replaces the rows of an earlier one (AgglomerateHistory.resume goes on with them)."""
+    try:
+        with open(csv_path) as fh:
+            rows = sum(1 for line in fh if line.strip()) - 1
+    except OSError:
+        return
+    if rows > 0:
+        import warnings
+        warnings.warn('AgglomerateHistory: %s had %d row%s, now replaced by this new history (AgglomerateHistory.resume(%r) '
+                      'would have gone on with them)' % (csv_path, rows, '' if rows == 1 else 's', csv_path), stacklevel=3)
 
 
 def _value(cell):

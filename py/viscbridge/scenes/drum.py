@@ -69,10 +69,11 @@ class Drum:
         finally:
             O.stopAtTime = 0
 
-    def spray(self, volumeRel, revolutions=1.0, start=0.0, dropletRel=0.0, zone=None, nozzle=(0, 0, -1), maxFilmRel=0.1,
+    def spray(self, volumeRel, revolutions=1.0, start=None, dropletRel=0.0, zone=None, nozzle=(0, 0, -1), maxFilmRel=0.1,
               seed=None, label='drumSpray'):
         """Spray binder onto the bed as the drum turns: `volumeRel` × the particles' volume in all,
-        at a constant rate over `revolutions` revolutions from revolution `start` on (needs
+        at a constant rate over `revolutions` revolutions from revolution `start` on (default: now;
+        not before it) (needs
         liquidModel='film').  Droplets fall along `nozzle` (default straight down) and land on the
         spheres they meet first — the bed's free surface, wherever the cascade has put it
         (physics.md L6) — inside `zone` (``((xmin, ymin, zmin), (xmax, ymax, zmax))`` [m]; default
@@ -88,13 +89,13 @@ class Drum:
                              '(the liquid lives in the particles\' films)' % self.params['liquidModel'])
         _checks.in_range(f, 'volumeRel', volumeRel, 0, 1, lo_open=True)
         revolutions = _checks.positive(f, 'revolutions', revolutions)
-        start = _checks.non_negative(f, 'start', start)
+        start = liquid._spray_start(f, 'start', start, self.period, ' revolutions')
         R, L = self.params['drumRadius'], self.params['length']
         box = ((-R, -L / 2, -R), (R, L / 2, R)) if zone is None else zone
         dropletRel = _checks.in_range(f, 'dropletRel', dropletRel, 0, 1)
         particles = math.fsum(4 / 3 * math.pi * O.bodies[i].shape.radius ** 3 for i in self.spheres)
-        engine = liquid.spray(volumeRel * particles / (revolutions * self.period), box=box, start=start * self.period,
-                              end=(start + revolutions) * self.period, nozzle=nozzle, maxFilmRel=maxFilmRel,
+        engine = liquid.spray(volumeRel * particles / (revolutions * self.period), box=box, start=start,
+                              end=start + revolutions * self.period, nozzle=nozzle, maxFilmRel=maxFilmRel,
                               dropletVolume=dropletRel * particles / len(self.spheres),
                               seed=self.params['seed'] if seed is None else seed, virtPeriod=self.period / 100, label=label)
         O.engines = O.engines + [engine]
