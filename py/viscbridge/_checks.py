@@ -22,6 +22,13 @@ def implausible(key, message):
         warnings.warn(message, stacklevel=3)
 
 
+def suggestion(name, known):
+    """'; did you mean 'x'?' for the name of `known` closest to `name` (a typo), or ''."""
+    import difflib
+    close = difflib.get_close_matches(name, known, n=1)
+    return "; did you mean %r?" % close[0] if close else ''
+
+
 def reject(func, name, value, allowed):
     raise ValueError('%s: %s=%r is out of range; allowed: %s.' % (func, name, value, allowed))
 

@@ -18,7 +18,8 @@ R = 1e-3
 
 def small_drum(**options):
     options.setdefault('viscosity', 1.0)
-    return scenes.drum(radius=R, drumRadius=10 * R, length=6 * R, n=60, **options)
+    options.setdefault('n', 60)
+    return scenes.drum(radius=R, drumRadius=10 * R, length=6 * R, **options)
 
 
 def test_the_drum_turns_the_bed_cascades_and_the_liquid_is_kept(tmp_path):
@@ -131,3 +132,22 @@ def test_a_drum_asked_for_accuracy_starts_from_its_bed_at_rest(integration):
     assert stepper.accuracy == 1e-2 and d.params['accuracy'] == 1e-2
     d.run(revolutions=0.02)
     assert 0 < stepper.errorEstimate < 1
+
+
+def test_a_drum_handle_of_a_scene_gone_refuses_to_run():
+    """A handle kept after O.reset (or after another drum was built) ran whatever O held: 897 141
+    steps of an empty scene, or the other drum."""
+    first = small_drum()
+    small_drum(n=30)
+    with pytest.raises(RuntimeError, match=r'Drum.run: this drum is no longer the scene in O'):
+        first.run(revolutions=0.01)
+    O.reset()
+    with pytest.raises(RuntimeError, match=r'Drum.spray: this drum is no longer the scene in O'):
+        first.spray(volumeRel=0.01)
+
+
+def test_the_speed_is_froude_or_rpm_and_a_misspelt_parameter_is_named_with_its_likely_meaning():
+    with pytest.raises(ValueError, match=r'drum: froude=0.1 and rpm=30 both set the speed'):
+        small_drum(froude=0.1, rpm=30)
+    with pytest.raises(ValueError, match=r"drum: unknown parameter\(s\) viscocity; did you mean 'viscosity'\?"):
+        scenes.drum(viscocity=5.0)

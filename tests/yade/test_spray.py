@@ -211,3 +211,13 @@ def test_a_spray_starts_now_and_refuses_a_start_already_past():
     O.run(100, True)
     assert spray.sprayed == pytest.approx(1e-9 * (O.time - spray.start), rel=0.11)  # since it was made, not since t = 0
     assert liquid.total() == pytest.approx(spray.delivered, rel=1e-12) and len(ids) == 27
+
+
+def test_a_spray_on_a_scene_without_films_stops_the_run():
+    """With liquidModel='fixed' the films feed nothing: a spray there added to a total no bridge used."""
+    O.bodies.append(utils.sphere((0, 0, 0), R))
+    O.engines = viscbridge.engines(viscosity=10.0) + [liquid.spray(rate=1e-9, ball=((0, 0, 0), 2 * R), iterPeriod=1)]
+    O.dt = 1e-6
+    with pytest.raises(RuntimeError, match=r"ViscBridgeSpray sprays onto the particles' films, which only .*liquidModel='film'"):
+        O.run(2, True)
+    assert liquid.total() == 0

@@ -1,6 +1,7 @@
 #include "viscbridge/engines/ViscBridgeSpray.hpp"
 #include "viscbridge/core/util/Validation.hpp"
 #include "viscbridge/distributed/Distributed.hpp"
+#include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/yade/ViscBridgeState.hpp"
 #include <core/Scene.hpp>
 #include <pkg/common/Sphere.hpp>
@@ -53,6 +54,11 @@ void ViscBridgeSpray::action()
 		throw std::runtime_error(kOwner + " does not run under yade.mpy (the films it wets live on other ranks); spray in a serial "
 		                                  "run or with threads (-j).");
 	checkZone();
+	// films feed bridges only with conserved liquid: with 'fixed' liquid a spray would add to a total nothing uses
+	if (!ViscBridgeContext::hasEngine(scene, "ViscBridgeLiquid"))
+		throw std::runtime_error(kOwner + " sprays onto the particles' films, which only Ip2_FrictMat_FrictMat_ViscBridgePhys.liquidModel='film' "
+		                                  "uses (with a ViscBridgeLiquid engine in O.engines: viscbridge.engines(liquidModel='film') inserts it); "
+		                                  "this scene has none.");
 	// it runs after the integrator: the positions are those of the end of the step, time + dt
 	const Real now = scene->time + scene->dt;
 	accountSprayed(now);

@@ -55,8 +55,16 @@ class Drum:
         """Revolutions turned so far."""
         return O.time / self.period
 
+    def _require_current(self, func):
+        """Refuse a handle whose drum is no longer O's scene (O reset, or another scene built since)."""
+        turning = any(isinstance(e, yw.RotationEngine) and list(e.ids) == self.facets for e in O.engines)
+        if not turning or sum(1 for b in O.bodies if b.dynamic) != len(self.spheres):
+            raise RuntimeError('%s: this drum is no longer the scene in O (O was reset, or another scene was built or '
+                               'loaded since); build it again with viscbridge.scenes.drum(...)' % func)
+
     def run(self, revolutions=None, duration=None):
         """Turn the drum by `revolutions` (or for `duration` [s] of simulated time); blocks."""
+        self._require_current('Drum.run')
         if (revolutions is None) == (duration is None):
             raise ValueError('Drum.run: give exactly one of revolutions=... or duration=... [s]')
         if revolutions is not None:
@@ -84,6 +92,7 @@ class Drum:
         :yref:`ViscBridgeSpray` to O.engines (saved with the scene) and returns it; its period is
         1/100 revolution."""
         f = 'Drum.spray'
+        self._require_current(f)
         if self.params['liquidModel'] != 'film':
             raise ValueError("Drum.spray: the drum was built with liquidModel=%r; sprayed binder needs liquidModel='film' "
                              '(the liquid lives in the particles\' films)' % self.params['liquidModel'])
@@ -108,7 +117,7 @@ class Drum:
             'wet' if p['wetWalls'] else 'dry', p['integration'])
 
 
-def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.05, rpm=None, viscosity=1.0,
+def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=None, rpm=None, viscosity=1.0,
          liquidModel='film', wetFraction=0.15, filmRel=0.02, minBridgeRel=0.002, wetWalls=False, integration=None,
          accuracy=None, density=2500.0, young=1e7, poisson=0.3, friction=0.5, wallFriction=0.8, segments=32, seed=1,
          **effects):
@@ -118,7 +127,7 @@ def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.
     length `length` (default 10 r; flat dry end walls), filled to `fill` of its volume by a bed at
     solid fraction 0.6 (or `n` spheres), dropped into it from a loose cloud.  The drum (`segments`
     segments around, two triangular facets each; friction angle `wallFriction` [rad]) turns about the y axis at the Froude number
-    `froude` = ω²R/g or at `rpm`.  The liquid: `viscosity` [Pa·s] with `liquidModel` 'film' (a
+    `froude` = ω²R/g (default 0.05) or at `rpm` (one of them).  The liquid: `viscosity` [Pa·s] with `liquidModel` 'film' (a
     fraction `wetFraction` of the spheres, chosen at random, carries a film of `filmRel` of its
     volume; bridges take it from them, :mod:`viscbridge.liquid`, and form only from at least
     `minBridgeRel` of a particle's volume, ViscBridgeLiquid.minBridgeVolume) or 'fixed' (every contact wet);
@@ -143,17 +152,21 @@ def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=0.
     _checks.choice(f, 'liquidModel', liquidModel, ('fixed', 'film'))
     _checks.boolean(f, 'wetWalls', wetWalls)
     segments = _checks.integer(f, 'segments', segments, minimum=8)
+    if rpm is not None and froude is not None:
+        raise ValueError('drum: froude=%r and rpm=%r both set the speed; give one of them (neither: froude=0.05)' % (froude, rpm))
     if rpm is not None:
         omega = _checks.positive(f, 'rpm', rpm) * 2 * math.pi / 60
         froude = omega ** 2 * drumRadius / G
     else:
+        froude = 0.05 if froude is None else froude
         omega = math.sqrt(_checks.in_range(f, 'froude', froude, 0, 1, lo_open=True) * G / drumRadius)
     if n is None:
         n = int(round(fill * math.pi * drumRadius ** 2 * length * 0.6 / (4 / 3 * math.pi * radius ** 3)))
     n = _checks.integer(f, 'n', n, minimum=1)
     ip2_args, rest = bridge_parameters(viscosity=viscosity, liquidModel=liquidModel, **effects)
     if rest:
-        raise ValueError('drum: unknown parameter(s) %s' % ', '.join(sorted(rest)))
+        raise ValueError('drum: unknown parameter(s) %s%s' % (', '.join(sorted(rest)), _checks.suggestion(
+            sorted(rest)[0], list(UNITS) + list(_registry.PARAMETERS))))
 
     O.reset()
     plot.reset()
