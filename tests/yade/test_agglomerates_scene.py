@@ -1,5 +1,7 @@
 """viscbridge.analysis.agglomerates on scenes: members are the dynamic spheres (a clump counts as one),
 edges the liquid bridges between them; walls and fixed bodies join nothing."""
+import math
+
 import pytest
 from yade import O, utils
 import yade.wrapper as yw
@@ -56,14 +58,18 @@ def test_bad_arguments_name_themselves():
         agglomerates('no/such/file.yade')
 
 
-def row_of_three():
+def row_of_three(liquidModel='fixed'):
     """Three touching spheres on the x axis moved kinematically (translations blocked: a sphere with
-    every degree of freedom blocked is not dynamic for YADE, nor a member), every contact a bridge."""
+    every degree of freedom blocked is not dynamic for YADE, nor a member), every contact a bridge
+    (with 'film' liquid, from films of 1 % of each sphere's volume)."""
+    import viscbridge.liquid as liquid
     mat = material()
     ids = [O.bodies.append(utils.sphere((2 * R * k * 0.999, 0, 0), R, material=mat)) for k in range(3)]
     for i in ids:
         O.bodies[i].state.blockedDOFs = 'xyz'
-    O.engines = viscbridge.engines(gravity=(0, 0, 0), viscosity=0.01, timeStepper=False)
+    if liquidModel == 'film':
+        liquid.set_film(ids, 0.01 * 4 / 3 * math.pi * R ** 3)
+    O.engines = viscbridge.engines(gravity=(0, 0, 0), viscosity=0.01, timeStepper=False, liquidModel=liquidModel)
     O.dt = 1e-6
     O.run(2, True)
     return ids
@@ -118,7 +124,7 @@ def test_the_history_counts_granules_apart_from_single_spheres_and_the_liquid_sp
     over the spheres meanwhile: each row has the liquid it had put in by then."""
     import viscbridge.liquid as liquid
     from viscbridge.analysis.agglomerate_history import AgglomerateHistory
-    a, b, c = row_of_three()
+    a, b, c = row_of_three('film')  # sprays feed films
     before = liquid.sprayed()  # sprays of earlier tests in this process count too
     history = AgglomerateHistory(str(tmp_path / 'a.csv'), period=1e-3)
     O.engines = O.engines + [liquid.spray(rate=1e-9, box=((-R, -R, -R), (5 * R, R, R)), iterPeriod=10)]

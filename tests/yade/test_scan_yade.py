@@ -71,11 +71,15 @@ def test_drum_fields_are_those_of_scenes_drum():
     spray = inspect.signature(drum_module.Drum.spray).parameters
     for name, default in scan.DRUM_DEFAULTS.items():
         if name in scan.DRUM_SPRAY_KEYS:  # an argument of Drum.spray (sprayRel has no default there: 0 means no spray)
-            assert spray[scan.DRUM_SPRAY_KEYS[name]].default in (default, inspect.Parameter.empty), name
+            given = spray[scan.DRUM_SPRAY_KEYS[name]].default
+            # Drum.spray's start None is now: 0 for a drum just built, as a scan's case is
+            assert given in (default, inspect.Parameter.empty) or (name, given, default) == ('sprayStart', None, 0.0), name
             continue
         assert scan.DRUM_FIELDS[name].unit == drum_module.UNITS.get(name, ''), name
         if name == 'integration':  # scenes.drum: None, 'implicit' unless accuracy is asked for
             assert signature[name].default is None and default == 'implicit'
+        elif name == 'froude':  # scenes.drum: None, 0.05 unless rpm is given
+            assert signature[name].default is None and default == 0.05
         elif name not in ('n', 'drumRadius', 'length', 'rpm', 'revolutions', 'bridgeVolumeRel'):
             assert signature[name].default == default, name
     import yade.wrapper as yw

@@ -327,6 +327,7 @@ class AgglomerateHistory:
         if not recorded:  # a resumed history before its first row in this process
             ax.text(0.5, 0.5, 'no size distribution recorded\nin this process yet', ha='center', va='center',
                     transform=ax.transAxes)
+            ax.axis('off')
             return
         if times is None:
             picks = sorted({int(round(k * (len(recorded) - 1) / 3)) for k in range(4)})
@@ -346,6 +347,7 @@ class AgglomerateHistory:
         ax.set_xticklabels(['%d' % lo if lo == hi else '%d–%d' % (lo, hi) for lo, hi in bounds], rotation=45, fontsize=8)
         ax.set_xlabel('agglomerate size [spheres]')
         ax.set_ylabel('mass fraction')
+        ax.grid(True, axis='y', alpha=0.3)
         # the sizes of rows recorded by another process are not in the CSV
         ax.set_title('Size distribution (by mass)' + (', rows since loading' if self._rows_loaded else ''), fontsize=10)
         ax.legend(fontsize=8)
@@ -360,6 +362,7 @@ def _plot_events(ax, run, x):
         ax.step(run.columns[x], numpy.nancumsum(run.columns[column]), colour, where='post', label=label)
     ax.set_xlabel(X_AXES[x])
     ax.set_ylabel('agglomerates (summed since the start)')
+    ax.grid(True, alpha=0.3)
     ax.set_title('Coalescence and breakage', fontsize=10)
     ax.yaxis.set_major_locator(matplotlib.ticker.MaxNLocator(integer=True))  # counts
     ax.legend(fontsize=8)

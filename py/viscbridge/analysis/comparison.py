@@ -35,8 +35,9 @@ run, one style per column), whether its y axis is logarithmic, and what it says 
 value to draw."""
 
 PANELS = dict(
+    # logarithmic: tens of granules beside hundreds of agglomerates
     granules=Panel('Granules (≥ 2 spheres) and agglomerates', 'number', (('granules', '-'), ('agglomerates', ':')),
-                   False, 'no spheres'),
+                   True, 'no spheres'),
     mass=Panel('Granulated mass fraction', 'mass in granules / total mass', (('granulated_mass_fraction', '-'),), False,
                'no spheres'),
     size=Panel('Granule size (by mass) and largest', 'size [spheres]', (('granule_d50', '-'), ('largest', '--')), True,
@@ -125,7 +126,7 @@ def read_run(run):
 def _value_text(name, value, unit):
     if value is None:
         return '%s unset' % name
-    text = '%g' % value if isinstance(value, float) else str(value)
+    text = '%.4g' % value if isinstance(value, float) else str(value)
     return '%s = %s%s' % (name, text, ' ' + unit if unit else '')
 
 
@@ -180,8 +181,8 @@ def draw_panel(ax, panel, runs, x, colours):
             ax.plot(run.columns[x], numpy.where(finite, y, numpy.nan), color=colour, linestyle=style)
     if panel.log and drawn:
         import matplotlib.ticker as ticker
-        ax.set_yscale('log')  # sizes of 1 to 10³ spheres: labelled at 1, 2, 5, 10, 20, ...
-        ax.yaxis.set_major_locator(ticker.LogLocator(base=10, subs=(1, 2, 5)))
+        ax.set_yscale('log')  # counts of 1 to 10³ spheres: labelled at 1, 2, 3, 5, 10, 20, ...
+        ax.yaxis.set_major_locator(ticker.LogLocator(base=10, subs=(1, 2, 3, 5)))
         ax.yaxis.set_major_formatter(ticker.FuncFormatter(lambda v, _: '%g' % v))
         ax.yaxis.set_minor_formatter(ticker.NullFormatter())
     if not drawn:
@@ -189,6 +190,7 @@ def draw_panel(ax, panel, runs, x, colours):
     if len(panel.lines) > 1:
         ax.legend([Line2D([], [], color='0.3', linestyle=s) for _, s in panel.lines],
                   [COLUMN_INFO[c].label for c, _ in panel.lines], fontsize=8, loc='best')
+    ax.grid(True, which='major', alpha=0.3)
     ax.set_title(panel.title, fontsize=10)
     ax.set_xlabel(X_AXES[x])
     ax.set_ylabel(panel.ylabel)
@@ -239,6 +241,8 @@ def compare(runs, path, x='revolutions', labels=None, title=''):
         draw_panel(ax, panel, read, x, colours)
     key = axes.flat[len(PANELS)]
     key.axis('off')
+    import textwrap  # a label of several parameters on lines of its own, within the panel
+    labels = ['\n'.join(textwrap.wrap(s, 38)) for s in labels]
     key.legend([matplotlib.lines.Line2D([], [], color=c, linewidth=2) for c in colours], labels, loc='center',
                title='runs', fontsize=9, title_fontsize=10, frameon=False)
     if title:

@@ -90,7 +90,8 @@ class Drum:
         particle's volume, each wetting one sphere (L6b: a droplet near a particle's size wets a spot
         that nucleates a granule; `seed`, default the drum's, fixes where they land).  Appends a
         :yref:`ViscBridgeSpray` to O.engines (saved with the scene) and returns it; its period is
-        1/100 revolution."""
+        1/100 revolution.  The drum's ``params`` take the spray's (``sprayRel``, ``sprayRevolutions``,
+        ``sprayStart`` [revolutions], ``sprayDropletRel``: the last spray's), for the histories made after it."""
         f = 'Drum.spray'
         self._require_current(f)
         if self.params['liquidModel'] != 'film':
@@ -108,6 +109,10 @@ class Drum:
                               dropletVolume=dropletRel * particles / len(self.spheres),
                               seed=self.params['seed'] if seed is None else seed, virtPeriod=self.period / 100, label=label)
         O.engines = O.engines + [engine]
+        # the spray among the drum's parameters, named as a drum scan names them: a history made from now on records it
+        from ..scan.cases import DRUM_SPRAY_KEYS
+        given = dict(volumeRel=volumeRel, revolutions=revolutions, start=start / self.period, dropletRel=dropletRel)
+        self.params.update({field: given[argument] for field, argument in DRUM_SPRAY_KEYS.items()})
         return engine
 
     def describe(self):
