@@ -12,6 +12,7 @@ Fr = 0.05 — the bed cascades, agglomerates grow where wet particles meet and b
 pulls them apart.
 A wetted drum wall at these viscosities carries the whole bed round as one rigid lump.
 """
+import json
 import math
 
 from yade import O, pack, plot, utils
@@ -25,6 +26,7 @@ from ..engine_list import bridge_parameters, engines
 __all__ = ['drum', 'Drum', 'UNITS']
 
 G = 9.81
+_TAG = 'viscbridge.drum'  # the O.tags entry of a drum's parameters (Drum.current)
 
 #: The unit of each parameter of :func:`drum` ('' for a number without unit or a name); the Ip2's
 #: parameters passed through take theirs from the C++ table (``_registry.PARAMETERS``).
@@ -40,6 +42,25 @@ class Drum:
 
     def __init__(self, params, omega, spheres, facets, rotation):
         self.params, self.omega, self.spheres, self.facets, self.rotation = params, omega, spheres, facets, rotation
+        self._remember()
+
+    def _remember(self):
+        """The parameters in O.tags, which are saved with the scene: what current() finds after O.load."""
+        O.tags[_TAG] = json.dumps(self.params)
+
+    @classmethod
+    def current(cls):
+        """The handle of the drum in O: after ``O.load`` of a saved drum (in this process or another),
+        ``Drum.current().run(revolutions=...)`` goes on turning it and ``.spray(...)`` sprays it.  The
+        parameters are those it was built with (and its last spray's); the spheres are O's dynamic ones."""
+        text = dict(O.tags).get(_TAG)
+        rotation = [e for e in O.engines if isinstance(e, yw.RotationEngine)]
+        if text is None or len(rotation) != 1:
+            raise RuntimeError('Drum.current: O holds no drum made by viscbridge.scenes.drum (none was built since O.reset, '
+                               'or the scene loaded is not one)')
+        params = json.loads(text)
+        spheres = [b.id for b in O.bodies if b.dynamic and isinstance(b.shape, yw.Sphere)]
+        return cls(params, rotation[0].angularVelocity, spheres, list(rotation[0].ids), rotation[0])
 
     @property
     def units(self):
@@ -113,6 +134,7 @@ class Drum:
         from ..scan.cases import DRUM_SPRAY_KEYS
         given = dict(volumeRel=volumeRel, revolutions=revolutions, start=start / self.period, dropletRel=dropletRel)
         self.params.update({field: given[argument] for field, argument in DRUM_SPRAY_KEYS.items()})
+        self._remember()
         return engine
 
     def describe(self):
