@@ -151,3 +151,5 @@ def test_the_speed_is_froude_or_rpm_and_a_misspelt_parameter_is_named_with_its_l
         small_drum(froude=0.1, rpm=30)
     with pytest.raises(ValueError, match=r"drum: unknown parameter\(s\) viscocity; did you mean 'viscosity'\?"):
         scenes.drum(viscocity=5.0)
+    with pytest.raises(ValueError, match=r"drum: accuracy=5 is out of range"):  # named for the function called
+        scenes.drum(accuracy=5)

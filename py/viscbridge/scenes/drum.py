@@ -21,7 +21,7 @@ import yade.wrapper as yw
 from yade import geom
 
 from .. import _checks, _registry, liquid
-from ..engine_list import bridge_parameters, engines
+from ..engine_list import bridge_parameters, check_accuracy, engines
 
 __all__ = ['drum', 'Drum', 'UNITS']
 
@@ -179,6 +179,7 @@ def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=No
     _checks.choice(f, 'liquidModel', liquidModel, ('fixed', 'film'))
     _checks.boolean(f, 'wetWalls', wetWalls)
     segments = _checks.integer(f, 'segments', segments, minimum=8)
+    check_accuracy(accuracy, True, func=f)
     if rpm is not None and froude is not None:
         raise ValueError('drum: froude=%r and rpm=%r both set the speed; give one of them (neither: froude=0.05)' % (froude, rpm))
     if rpm is not None:
