@@ -105,7 +105,7 @@ def supervised(command, token):
     propagation is left unchanged: inside the environment / is no mount point, and the mount
     namespace yadew made is private already.)"""
     script = ('MODE=root; . %s/supervise.bash; supervise unshare --mount --pid --fork --kill-child --propagation unchanged -- '
-              '/bin/sh %s/namespace-init.sh / 0 "$PWD" "$@"' % (TOOLS, TOOLS))
+              '/bin/sh %s/namespace-init.sh / 0 0 "$PWD" "$@"' % (TOOLS, TOOLS))
     return subprocess.Popen(['bash', '-c', script, 'supervised-' + token] + command, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
 
