@@ -219,5 +219,6 @@ def test_a_spray_on_a_scene_without_films_stops_the_run():
     O.engines = viscbridge.engines(viscosity=10.0) + [liquid.spray(rate=1e-9, ball=((0, 0, 0), 2 * R), iterPeriod=1)]
     O.dt = 1e-6
     with pytest.raises(RuntimeError, match=r"ViscBridgeSpray sprays onto the particles' films, which only .*liquidModel='film'"):
-        O.run(2, True)
+        for _ in range(3):  # O.step() raises in this thread (an exception in the last step of O.run(n, True) can be lost)
+            O.step()
     assert liquid.total() == 0
