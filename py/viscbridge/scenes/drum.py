@@ -102,8 +102,7 @@ class Drum:
               seed=None, label='drumSpray'):
         """Spray binder onto the bed as the drum turns: `volumeRel` × the particles' volume in all,
         at a constant rate over `revolutions` revolutions from revolution `start` on (default: now;
-        not before it) (needs
-        liquidModel='film').  Droplets fall along `nozzle` (default straight down) and land on the
+        a start already past is refused), with liquidModel='film'.  Droplets fall along `nozzle` (default straight down) and land on the
         spheres they meet first — the bed's free surface, wherever the cascade has put it
         (physics.md L6) — inside `zone` (``((xmin, ymin, zmin), (xmax, ymax, zmax))`` [m]; default
         the whole drum); no film beyond `maxFilmRel` of its sphere's volume (L7).  `dropletRel`: 0, a
