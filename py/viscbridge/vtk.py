@@ -266,6 +266,10 @@ class BridgeSeries:
                     series.frames.append((float(entry.get('timestep')), int(found.group(1))))
         return series
 
+    def last_step(self):
+        """The step of its latest frame (-1: none yet)."""
+        return max((f[1] for f in self.frames), default=-1)
+
     def path(self, kind, iteration):
         return '%s%s.%010d.vtp' % (self.prefix, kind, iteration)
 
@@ -276,12 +280,12 @@ class BridgeSeries:
         at the same step, a frame replaces its files and stays one entry of the collections."""
         from yade import O
         iteration, time_ = (O.iter + 1, O.time + O.dt) if after_step else (O.iter, O.time)
-        if self.frames and max(f[1] for f in self.frames) > iteration:
+        if self.last_step() > iteration:
             raise RuntimeError(
                 'bridge_recorder: %sbridges.pvd has frames up to step %d, past this scene\'s step %d: the scene was saved '
                 'earlier and run on from there before, or the series belongs to another run. A run branched from a saved '
                 'state needs a series of its own: remove the recorder whose command names this prefix from O.engines and '
-                'make a new vtk.bridge_recorder(...) with another prefix.' % (self.prefix, max(f[1] for f in self.frames), iteration))
+                'make a new vtk.bridge_recorder(...) with another prefix.' % (self.prefix, self.last_step(), iteration))
         for kind in self.kinds:
             if kind == 'bridges':
                 write_bridges(self.path(kind, iteration), self.only_bridges)
@@ -373,7 +377,7 @@ def flush():
     if live:
         _let_the_step_finish(O)
     # a series with frames past this step is another run's (its recorder raised when it ran): left as it is
-    return [s.record() for s in live if not (s.frames and max(f[1] for f in s.frames) >= O.iter)]
+    return [s.record() for s in live if s.last_step() < O.iter]
 
 
 def _let_the_step_finish(O):
