@@ -8,6 +8,7 @@ Cases:
               and given random velocities of up to 1 cm/s; T = 1e-4 s.  The critical-Δt scans' trial.
   Settling300 viscbridge.scenes.settling(n=300) with random initial speeds of 5 cm/s (bridges form in
               the cloud as spheres meet) and the same liquid; T = 2e-3 s.
+  pair        a head-on pair whose bridge stiffens 100-fold as it stops (R1), not tuned on.
 
 Error measures, each relative to a reference run:
   e_x  RMS over the spheres of |x(T) - x_ref(T)|, divided by the RMS displacement of the reference
@@ -66,7 +67,35 @@ class Settling300:
                  safety=safety, accuracy=accuracy, guard=False, trackEnergy=False, **LIQUID)
 
 
-CASES = {c.name: c for c in (Bed45, Settling300)}
+class StiffeningPair:
+    """Two spheres approaching head-on through a bridge whose viscous coefficient grows 100-fold as the gap
+    closes (Adams–Perchard, C ∝ 1/S): physics.md R1, w(S) = w0 − A ln(S0/S) with A = 1.8 μ, stopping at
+    S0/100.  Not tuned on: the estimate's cases were the beds.  The speed scales with μ, so every
+    viscosity is the same run in other units."""
+    name = 'pair'
+    S0 = 0.1 * R
+    GROWTH = 100.0
+
+    def __init__(self):
+        self.T = None
+
+    def speed(self, mu):
+        return 1.8 * mu * math.log(self.GROWTH)
+
+    def prepare(self, mu, integration, stepper=False, safety=None, accuracy=None):
+        A, w0 = 1.8 * mu, self.speed(mu)
+        self.T = self.S0 / w0 + 30 * (self.S0 / self.GROWTH) / A  # the approach, then 30 relaxation times
+        O.reset()
+        mat = O.materials.append(yw.FrictMat(young=1e7, poisson=0.3, density=2500, frictionAngle=0.5))
+        O.bodies.append([utils.sphere((0, 0, 0), R, material=mat), utils.sphere((2 * R + self.S0, 0, 0), R, material=mat)])
+        O.bodies[0].state.vel, O.bodies[1].state.vel = (0.5 * w0, 0, 0), (-0.5 * w0, 0, 0)
+        O.engines = viscbridge.engines(gravity=(0, 0, 0), viscosity=mu, integration=integration, timeStepper=stepper, safety=safety,
+                                       guard=False, minRadius=R, accuracy=accuracy, sMin=1e-4 * R, normalModel='adamsPerchard',
+                                       tangentialModel='none', formationDistance=1.5 * self.S0)
+        O.trackEnergy = False
+
+
+CASES = {c.name: c for c in (Bed45, Settling300, StiffeningPair)}
 
 
 def _dynamic():

@@ -35,11 +35,11 @@ VISCOSITIES = [float(m) for m in args.mu.split(',')]
 TOLERANCES = sorted((float(t) for t in args.tol.split(',')), reverse=True)
 SAFETIES = [1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125]
 # implicit Δt = T/10/k: k = 2 is 5e-6 s on bed45 (below its collision step), 32 is 6.25e-6 s on settling300
-IMPLICIT_K = {'bed45': [2, 4, 16, 64, 256, 1024], 'settling300': [32, 64, 128, 256, 1024]}
+IMPLICIT_K = {'bed45': [2, 4, 16, 64, 256, 1024], 'settling300': [32, 64, 128, 256, 1024], 'pair': [4, 16, 64, 256, 1024, 4096]}
 # The references: implicit at Δt = T/10/k, 2.4e-9 s on bed45, 4.9e-8 s on settling300 — their own
 # errors (against twice the step) 1e-5 or less.  Not accuracy_cost's explicit run at a quarter of
 # the stepper's limit: at 1 Pa·s its own error is 1.1e-3, as large as the tightest tolerance.
-REFERENCE_K = {'bed45': 4096, 'settling300': 4096}
+REFERENCE_K = {'bed45': 4096, 'settling300': 4096, 'pair': 65536}
 
 
 def reference_run(case, mu):
@@ -84,6 +84,17 @@ def oracle_rows(case, mu, ref, tightest):
     return rows
 
 
+def write_keeping_others(path, mine, ran, text_columns):
+    """Write the rows `mine` to the CSV at `path` after the rows it holds of the cases not in `ran`."""
+    import csv
+    kept = []
+    if os.path.exists(path):
+        with open(path) as fh:
+            kept = [{k: (v if k in text_columns or not v else float(v)) for k, v in r.items()}
+                    for r in csv.DictReader(fh) if r['case'] not in ran]
+    common.write_rows(path, kept + mine)
+
+
 def calibration(cases):
     """True error ÷ errorEstimate of fixed implicit steps (physics.md A4a): what c has to cover."""
     out = []
@@ -99,7 +110,8 @@ def calibration(cases):
                 print('%-11s μ %6g  Δt %.3g s  error %.2e  estimate %.2e  error/estimate %.2f' % (
                     case.name, mu, dt, error, r['estimate'], out[-1]['ratio']))
                 sys.stdout.flush()
-    common.write_rows(os.path.join(common.RESULTS, 'accuracy_calibration.csv'), out)
+    path = os.path.join(common.RESULTS, 'accuracy_calibration.csv')
+    write_keeping_others(path, out, {c.name for c in cases}, ('case',))
 
 
 if args.calibration:
@@ -130,17 +142,8 @@ if args.replot:
     with open(os.path.join(common.RESULTS, 'accuracy_target_summary.csv')) as fh:
         summary = [{k: (v if k in ('case', 'oracle') or not v else float(v)) for k, v in r.items()} for r in csv.DictReader(fh)]
 else:  # the rows of the cases not run this time are kept
-    import csv
-    ran = {c.name for c in CASES}
     for name, mine in (('accuracy_target.csv', rows), ('accuracy_target_summary.csv', summary)):
-        path = os.path.join(common.RESULTS, name)
-        kept = []
-        if os.path.exists(path):
-            with open(path) as fh:
-                kept = [{k: (v if k in ('case', 'oracle', 'kind', 'setting', 'stopped') or not v else float(v)) for k, v in r.items()}
-                        for r in csv.DictReader(fh) if r['case'] not in ran]
-        mine[:0] = kept
-        common.write_rows(path, mine)
+        write_keeping_others(os.path.join(common.RESULTS, name), mine, {c.name for c in CASES}, ('case', 'oracle', 'kind', 'setting', 'stopped'))
 print('\n%-11s %6s %6s | %9s %9s %8s %7s | %-26s %9s %8s | %6s' % (
     'case', 'μ', 'tol', 'error', 'estimate', 'wall [s]', 'steps', 'oracle', 'error', 'wall [s]', 'cost×'))
 for s in summary:

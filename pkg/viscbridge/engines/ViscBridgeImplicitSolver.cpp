@@ -23,6 +23,13 @@ namespace yade {
 
 CREATE_LOGGER(ViscBridgeImplicitSolver);
 
+void ViscBridgeImplicitSolver::preSave(ViscBridgeImplicitSolver&)
+{
+	factorisedIter        = -1;
+	const auto saved      = Omega::instance().getScene(); // the scene being saved (Engine::scene can be stale)
+	noCoefficientChangeAt = saved ? saved->iter : -1;
+}
+
 namespace {
 	// the preconditioners, by name: two lagged ones, block Jacobi (not lagged), and the choice
 	// between the two lagged ones by the factor's size (the default)
@@ -108,42 +115,127 @@ void ViscBridgeImplicitSolver::action()
 	lap(timeApply);
 	bookEnergy(sys, g, x, R);
 	lap(timeEnergy);
-	if (ViscBridgeContext::hasEngine(scene, "ViscBridgeTimeStepper")) estimateStepError(sys, g.ids, x, pre);
+	if (ViscBridgeContext::hasEngine(scene, "ViscBridgeTimeStepper")) estimateStepError(sys, g, x, R, pre);
 	lap(timeEstimate);
 }
 
-// What the time stepper's estimate needs of this step (physics.md A1a, A1b): the step's error
-// filtered twice by its system, and the leapfrog's offsets relaxed once by it.  Each filter is one
-// application of the lagged Cholesky factor (or a CG solve with another preconditioner); the
-// error's first filter and the offsets' relaxation share one (a sweep over a large factor is
-// memory-bound: two columns cost little more than one).
-void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
-                                                 const vb::Preconditioner* pre)
+// What the time stepper's estimate needs of this step (physics.md A1a–A1c): the step's error
+// filtered twice by its system, and the leapfrog's offsets and the carried errors relaxed once by
+// it.  Each filter is one application of the lagged Cholesky factor (or a CG solve with another
+// preconditioner); the error's first filter and the offsets' share one (a sweep over a large factor
+// is memory-bound: two columns cost little more than one), the carried errors' another, checked
+// by one product and refined by CG where the factor lags this step's matrix: a lagged factor would
+// not relax what the bridges' new coefficients relax, and A1c carries on what it keeps.
+void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
+                                                 const std::vector<vb::BridgeResistance>& R, const vb::Preconditioner* pre)
 {
-	Eigen::VectorXd u, o;
-	const bool      compare = stepErrorChange(sys, ids, x, u);
-	const bool      relax   = offsetsOf(ids, sys.size(), o);
+	const std::vector<Body::id_t>& ids = g.ids;
+	Eigen::VectorXd                u, o, carried, fresh;
+	const bool                     compare = stepErrorChange(sys, ids, x, u);
+	const bool                     relax   = offsetsOf(ids, sys.size(), o);
+	const bool                     carry   = carriedErrorsOf(sys, g, x, R, carried, fresh);
 	stepErrorCovered.assign(scene->bodies->size(), 0);
 	stepErrorSq   = 0;
 	stepErrorIter = -1;
-	if (!compare && !relax) return;
+	if (!compare && !relax && !carry) return;
 	const bool      factor = pre && preconditionerInUse == cholesky;
-	Eigen::MatrixXd in(sys.size(), int(compare) + int(relax)), out;
+	Eigen::MatrixXd in(sys.size(), int(compare) + int(relax)), out, carriedIn(sys.size(), 2), carriedOut;
 	if (compare) in.col(0) = u;
 	if (relax) in.col(in.cols() - 1) = o;
-	sys.filterColumns(in, out, 1e-3, 100, pre, factor);
-	if (relax) storeOffsets(ids, out.col(out.cols() - 1));
+	if (in.cols() > 0) sys.filterColumns(in, out, 1e-3, 100, pre, factor);
+	if (relax) storeRelaxed(ids, out.col(out.cols() - 1), ViscBridgeContext::of(scene).velocityOffset);
+	if (carry) { // relaxed by this step's matrix, not a lagged one: what it does not relax it carries on (A1c)
+		carriedIn << carried, fresh;
+		sys.filterColumns(carriedIn, carriedOut, 1e-2, 100, pre, factor);
+		for (int c = 0; c < 2 && factor; ++c) { // CG from the factor's answer: one product where it holds
+			Eigen::VectorXd y = carriedOut.col(c);
+			sys.filter(carriedIn.col(c), y, 1e-2, 100, pre, false);
+			carriedOut.col(c) = y;
+		}
+		storeCarried(ids, carriedOut.col(0) + carriedOut.col(1));
+	}
 	if (!compare) return;
 	u.setZero();
 	for (size_t i = 0; i < ids.size(); ++i) // the second filter takes the translations only, as the first
 		u.segment<3>(6 * static_cast<long>(i)) = out.col(0).segment<3>(6 * static_cast<long>(i));
 	Eigen::VectorXd filtered;
 	sys.filter(u, filtered, 1e-3, 100, pre, factor);
+	// the step's own share of A1c joins A1a's error: it is what a smaller step makes smaller (the
+	// controller's measure, A4), while the error carried from earlier steps is made
 	for (size_t i = 0; i < ids.size(); ++i) {
-		stepErrorSq += sys.bodies()[i].mass * filtered.segment<3>(6 * static_cast<long>(i)).squaredNorm();
+		const auto at = 6 * static_cast<long>(i);
+		stepErrorSq += sys.bodies()[i].mass * (filtered.segment<3>(at).squaredNorm() + (carry ? carriedOut.col(1).segment<3>(at).squaredNorm() : 0.0));
 		stepErrorCovered[ids[i]] = 1;
 	}
 	stepErrorIter = scene->iter;
+}
+
+// A1c: the scheme holds each bridge's coefficients over a step in which they change (a gap that
+// closes stiffens its bridge, P4): against the trapezoidal companion the step gives the bodies
+// ½Δt (D_{n+1} − D_n) v too much impulse — with the slope of the last change, (Δt_n/Δt_{n−1})(D_n −
+// D_{n−1}).  Unlike A1a's error it is not a transient the relaxation absorbs: what (M + Δt D)⁻¹ does
+// not give the velocity it gives the position, the body relaxing to a shifted place.  So it is
+// carried, with the position error ξ it makes: a gap wrong by δS = n·(ξ₂ − ξ₁) gives the bridge the
+// normal coefficient of that gap, C^n + (ΔC^n/ΔS) δS by the last change over the gap change ΔS (a
+// bridge that keeps stiffening shrinks the error in proportion: R1's w₀ − A ln(S₀/S)).  Per body
+// `carried` = ε + (the wrong gap's impulse)/m and `fresh` = (this step's trapezoidal impulse)/m, which
+// the caller relaxes through the system with the offsets, ε_{n+1} = (M + Δt D)⁻¹ M (carried + fresh),
+// then ξ_{n+1} = ξ_n + Δt ε_{n+1}.  A bridge formed since the last step is a jump of the model (A1),
+// not a change.  False if nothing is carried.  [MPI] not over ranks, as the offsets.
+bool ViscBridgeImplicitSolver::carriedErrorsOf(const vb::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
+                                               const std::vector<vb::BridgeResistance>& R, Eigen::VectorXd& carried, Eigen::VectorXd& fresh)
+{
+	auto&          context = ViscBridgeContext::of(scene);
+	const long     m = static_cast<long>(sys.bridges().size()), n = static_cast<long>(g.ids.size());
+	const Real     dt        = scene->dt;
+	const Vector3r unstarted = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
+	carried.setZero(static_cast<long>(sys.size()));
+	fresh.setZero(static_cast<long>(sys.size()));
+	context.velocityError.resize(scene->bodies->size(), unstarted);
+	context.positionError.resize(scene->bodies->size(), unstarted);
+	if (distributed::active(scene)) return false;
+	for (const Body::id_t id : g.ids)
+		if (!context.velocityError[id].allFinite() || !context.positionError[id].allFinite())
+			context.velocityError[id] = context.positionError[id] = Vector3r::Zero();
+	const vb::BridgeResistance        none { Vector3r::Zero(), Vector3r::Zero(), Vector3r::Zero(), Vector3r::Zero() };
+	std::vector<vb::BridgeResistance> step(static_cast<size_t>(m), none), wrongGap(static_cast<size_t>(m), none);
+	const auto scaled = [](const vb::BridgeResistance& a, const vb::BridgeResistance& b, Real w) {
+		return vb::BridgeResistance { w * (a.force1 - b.force1), w * (a.torque1 - b.torque1), w * (a.force2 - b.force2), w * (a.torque2 - b.torque2) };
+	};
+	bool any = false;
+#pragma omp parallel for schedule(static) reduction(|| : any)
+	for (long k = 0; k < m; ++k) {
+		const vb::SystemBridge& c   = sys.bridges()[k];
+		ViscBridgePhys&         ph  = *g.owners[k];
+		const Real              gap = -static_cast<const ScGeom&>(*g.described[k]->geom).penetrationDepth;
+		if (ph.solvedIter == scene->iter - 1 && ph.solvedDt > 0 && scene->iter != noCoefficientChangeAt) {
+			const vb::BridgeResistance before = vb::bridgeResistance(ph.solvedBlock, x.segment<3>(6 * c.body1), x.segment<3>(6 * c.body1 + 3),
+			                                                          x.segment<3>(6 * c.body2), x.segment<3>(6 * c.body2 + 3), c.shiftVel);
+			const Real gapChange = gap - ph.solvedGap;
+			const Real gapError  = c.block.n.dot(context.positionError[g.ids[c.body2]] - context.positionError[g.ids[c.body1]]);
+			step[k]              = scaled(R[k], before, 0.5 * dt * dt / ph.solvedDt); // the trapezoid's share
+			// what the wrong gap changes: the normal coefficient's slope over the last change (none from a
+			// gap that barely moved: a slope of round-off), on the normal motion it resists
+			if (std::abs(gapChange) > 1e-6 * std::abs(gap)) {
+				const Vector3r dv = x.segment<3>(6 * c.body1) - x.segment<3>(6 * c.body2) - c.shiftVel;
+				const Vector3r f  = -dt * (c.block.cn - ph.solvedBlock.cn) / gapChange * gapError * c.block.n.dot(dv) * c.block.n;
+				wrongGap[k]       = { f, Vector3r::Zero(), Vector3r(-f), Vector3r::Zero() };
+			}
+			any = true;
+		}
+		ph.solvedBlock = c.block, ph.solvedIter = scene->iter, ph.solvedDt = dt, ph.solvedGap = gap;
+	}
+#pragma omp parallel for schedule(static) reduction(|| : any)
+	for (long i = 0; i < n; ++i) {
+		const Vector3r& was = context.velocityError[g.ids[i]];
+		Vector3r        f, t;
+		sys.resultantOn(i, wrongGap, f, t); // in the order of the body's bridges: the same sum on any number of threads
+		carried.segment<3>(6 * i) = was + f / sys.bodies()[i].mass;
+		sys.resultantOn(i, step, f, t);
+		fresh.segment<3>(6 * i) = f / sys.bodies()[i].mass;
+		any                     = any || !was.isZero(0);
+	}
+	return any;
 }
 
 // A1b: the offsets of the bodies this step holds, in the system's layout (translations); false if
@@ -160,14 +252,22 @@ bool ViscBridgeImplicitSolver::offsetsOf(const std::vector<Body::id_t>& ids, siz
 	return any;
 }
 
-// A1b: the offsets relax through the bridges as a velocity does, (M + Δt D)⁻¹M o: an offset of a
-// cluster moving as one stays, a relative one decays.
-void ViscBridgeImplicitSolver::storeOffsets(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed)
+// A1c: the carried velocity errors relaxed by the step, and the positions they move.
+void ViscBridgeImplicitSolver::storeCarried(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed)
 {
-	auto& offset = ViscBridgeContext::of(scene).velocityOffset;
+	auto& context = ViscBridgeContext::of(scene);
+	storeRelaxed(ids, relaxed, context.velocityError);
+	for (const Body::id_t id : ids)
+		context.positionError[id] = ViscBridgeContext::relaxedOffset(context.positionError[id] + scene->dt * context.velocityError[id]);
+}
+
+// A1b, A1c: the offsets and the carried errors relax through the bridges as a velocity does,
+// (M + Δt D)⁻¹M o: what a cluster moving as one carries stays, a relative part decays.
+void ViscBridgeImplicitSolver::storeRelaxed(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed, std::vector<Vector3r>& perBody)
+{
 	for (size_t i = 0; i < ids.size(); ++i)
-		if (static_cast<size_t>(ids[i]) < offset.size() && offset[ids[i]].allFinite())
-			offset[ids[i]] = ViscBridgeContext::relaxedOffset(relaxed.segment<3>(6 * static_cast<long>(i)));
+		if (static_cast<size_t>(ids[i]) < perBody.size() && perBody[ids[i]].allFinite())
+			perBody[ids[i]] = ViscBridgeContext::relaxedOffset(relaxed.segment<3>(6 * static_cast<long>(i)));
 }
 
 // A1a: the error of this step against its trapezoidal companion is ½Δt_n times the change of the

@@ -67,12 +67,16 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	std::vector<Vector3r> previousChange; // per body id: (v_{n+1/2} − v_{n−1/2})/Δt of the last solve (NaN: not solved; ∞: a jump of the model)
 	std::vector<Vector3r> stepChange;     // workspace: the same for this solve
 	long                  previousChangeIter = -1;
-	void estimateStepError(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
-	                       const viscbridge::Preconditioner* pre);
+	long                  noCoefficientChangeAt = -1; // the step after a save (A1c)
+	void estimateStepError(const viscbridge::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
+	                       const std::vector<viscbridge::BridgeResistance>& R, const viscbridge::Preconditioner* pre);
+	bool carriedErrorsOf(const viscbridge::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
+	                     const std::vector<viscbridge::BridgeResistance>& R, Eigen::VectorXd& carried, Eigen::VectorXd& fresh); // false: nothing carried
 	bool stepErrorChange(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
 	                     Eigen::VectorXd& u); // false: nothing to compare with
 	bool offsetsOf(const std::vector<Body::id_t>& ids, size_t size, Eigen::VectorXd& o);
-	void storeOffsets(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed);
+	void storeCarried(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed);
+	static void storeRelaxed(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed, std::vector<Vector3r>& perBody);
 
 public:
 	long                     stepErrorStep() const override { return stepErrorIter; }
@@ -82,7 +86,9 @@ public:
 	void postLoad(ViscBridgeImplicitSolver&);
 	// Saving refreshes the factorisation at the next step, as loading must (the factor is not saved):
 	// a run continued after O.save and one resumed from the file then solve the same systems.
-	void preSave(ViscBridgeImplicitSolver&) { factorisedIter = -1; }
+	// The blocks of the last step are not saved either: the step after saving carries no change of
+	// coefficients (A1c) in the continued run, as in the resumed one.
+	void preSave(ViscBridgeImplicitSolver&);
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR(ViscBridgeImplicitSolver, GlobalEngine,
 		"Solves $(M+\\Delta t D)\\,v_{n+1/2} = M v_{n-1/2} + \\Delta t F_{other}$ for the translational "

@@ -47,6 +47,7 @@ class ViscBridgeTimeStepper : public TimeStepper {
 	bool                          restartOffsets = false; // resetErrorEstimate(): the offsets start afresh too
 	std::vector<Real>             resumedMotion; // [saved scenes] (id, F, o) per body: forces restored at loading, offsets set in the scene at its first step
 	static constexpr size_t       savedMotionStride = 7;
+	std::vector<Real>             resumedErrors; // [saved scenes] (id, ε, ξ) per body: the carried velocity and position errors (A1c), set with the offsets
 	Vector3r                      resumedVector(size_t k, size_t at) const { return Vector3r(resumedMotion[k + at], resumedMotion[k + at + 1], resumedMotion[k + at + 2]); }
 	Real                          accuracyStep(Scene*); // records the last step; the step the tolerance allows (inf: none)
 	Real                          otherSchemeLimit(Scene*, bool runningImplicit);

@@ -31,6 +31,10 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 	Real                  mass = 0, speedSq = 0, errorSq = 0, offsetSq = 0, freeSq = 0, freeDot = 0, freeAccSq = 0;
 	resumeOffsets(sc);
 	const auto&           offset  = ViscBridgeContext::of(sc).velocityOffset;
+	const auto&           carried = ViscBridgeContext::of(sc).velocityError; // A1c
+	const auto&           shifted = ViscBridgeContext::of(sc).positionError;
+	Real                  carriedSq = 0, shiftedSq = 0;
+	const auto            finite    = [](const std::vector<Vector3r>& v, size_t id) { return id < v.size() && v[id].allFinite() ? v[id].squaredNorm() : 0.0; };
 	const Vector3r        gravity = ViscBridgeContext::newtonGravity(sc);
 	static const Vector3r none = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
 	previousForce.resize(n, none);
@@ -56,6 +60,7 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 			mass += m;
 			speedSq += m * b->state->vel.squaredNorm();
 			errorSq += m * dv * dv;
+			carriedSq += m * finite(carried, id), shiftedSq += m * finite(shifted, id);
 			const Vector3r o = id < offset.size() && offset[id].allFinite() ? offset[id] : Vector3r::Zero();
 			offsetSq += m * o.squaredNorm();
 			if (!covered && !(explicitDamping(id) > 0)) { // A4b: the offsets the next Δt changes as it is
@@ -67,9 +72,10 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 	}
 	if (filtered) errorSq += solver->stepErrorSquared();
 	forceIter = sc->iter;
-	distributed::sum(sc, { &mass, &speedSq, &errorSq, &offsetSq, &freeSq, &freeDot, &freeAccSq }); // [MPI] the same motion on every rank
+	distributed::sum(sc, { &mass, &speedSq, &errorSq, &offsetSq, &freeSq, &freeDot, &freeAccSq, &carriedSq, &shiftedSq }); // [MPI] the same motion on every rank
 	if (!(mass > 0)) return {};
-	return { dt, std::sqrt(speedSq / mass), std::sqrt(errorSq / mass), std::sqrt(offsetSq / mass), freeSq / mass, freeDot / mass, freeAccSq / mass };
+	return { dt, std::sqrt(speedSq / mass), std::sqrt(errorSq / mass), std::sqrt(offsetSq / mass), freeSq / mass, freeDot / mass, freeAccSq / mass,
+		 std::sqrt(carriedSq / mass), std::sqrt(shiftedSq / mass) };
 }
 
 // A loaded scene's offsets, from its saved state (ViscBridgeTimeStepperState.cpp).
@@ -83,6 +89,17 @@ void ViscBridgeTimeStepper::resumeOffsets(Scene* sc)
 		if (id < offset.size()) offset[id] = resumedVector(k, 4);
 	}
 	std::vector<Real>().swap(resumedMotion);
+	auto& carried = ViscBridgeContext::of(sc).velocityError;
+	auto& shifted = ViscBridgeContext::of(sc).positionError;
+	carried.assign(sc->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
+	shifted.assign(sc->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
+	for (size_t k = 0; k + 7 <= resumedErrors.size(); k += 7) {
+		const auto id = static_cast<size_t>(resumedErrors[k]);
+		if (id < carried.size())
+			carried[id] = Vector3r(resumedErrors[k + 1], resumedErrors[k + 2], resumedErrors[k + 3]),
+			shifted[id] = Vector3r(resumedErrors[k + 4], resumedErrors[k + 5], resumedErrors[k + 6]);
+	}
+	std::vector<Real>().swap(resumedErrors);
 }
 
 // The explicit bridges' damping rate of body `id` (P14's row sum, from the last full update and
@@ -115,21 +132,26 @@ Vector3r ViscBridgeTimeStepper::acceleration(const State& st, const Vector3r& f,
 // step's Δt is set.
 void ViscBridgeTimeStepper::advanceOffsets(Scene* sc, Real dtBefore)
 {
-	auto&           offset = ViscBridgeContext::of(sc).velocityOffset;
-	const size_t    n      = sc->bodies->size();
+	auto&           offset  = ViscBridgeContext::of(sc).velocityOffset;
+	auto&           carried = ViscBridgeContext::of(sc).velocityError; // A1c: the implicit solver adds to it, explicit bridges relax it
+	const size_t    n       = sc->bodies->size();
 	static const Vector3r unstarted = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
-	if (restartOffsets) offset.clear(), restartOffsets = false;
+	auto&           shifted = ViscBridgeContext::of(sc).positionError;
+	if (restartOffsets) offset.clear(), carried.clear(), shifted.clear(), restartOffsets = false;
+	shifted.resize(n, unstarted);
 	offset.resize(n, unstarted);
+	carried.resize(n, unstarted);
 	const Vector3r gravity = ViscBridgeContext::newtonGravity(sc);
 	for (size_t id = 0; id < n; ++id) {
 		const bool counted = id < previousForce.size() && previousForce[id].allFinite() && forceIter == sc->iter;
 		if (!counted) { // not a body the estimate counts this step (a clump, a fixed or a new one)
-			offset[id] = unstarted;
+			offset[id] = carried[id] = shifted[id] = unstarted;
 			continue;
 		}
 		const Real damping = explicitDamping(id);
 		if (damping > 0) {
 			offset[id] = offset[id].allFinite() ? ViscBridgeContext::relaxedOffset(offset[id] / (1 + sc->dt * damping)) : Vector3r::Zero();
+			if (carried[id].allFinite()) carried[id] = ViscBridgeContext::relaxedOffset(carried[id] / (1 + sc->dt * damping));
 			continue;
 		}
 		const Vector3r a = acceleration(*(*sc->bodies)[id]->state, previousForce[id], gravity);

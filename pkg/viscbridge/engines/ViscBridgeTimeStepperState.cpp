@@ -135,6 +135,15 @@ void ViscBridgeTimeStepper::preSave(ViscBridgeTimeStepper&)
 	}
 	savedState.push_back(Real(forceIter));
 	pack(savedState, motion);
+	// the carried velocity and position errors (A1c), (id, ε, ξ) of the bodies that have them (older
+	// scenes end here)
+	std::vector<Real> errors;
+	const size_t      carried = context ? std::min({ context->velocityError.size(), context->positionError.size(), counted }) : 0;
+	for (size_t id = 0; id < carried; ++id) {
+		const Vector3r &e = context->velocityError[id], &x = context->positionError[id];
+		if (previousForce[id].allFinite() && e.allFinite() && x.allFinite()) errors.insert(errors.end(), { Real(id), e[0], e[1], e[2], x[0], x[1], x[2] });
+	}
+	pack(savedState, errors);
 }
 
 void ViscBridgeTimeStepper::reset()
@@ -220,6 +229,7 @@ void ViscBridgeTimeStepper::restoreSavedState()
 			forceIter = static_cast<long>(r.next());
 			r.unpack(resumedMotion);
 			resumeForces();
+			if (r.at < savedState.size()) r.unpack(resumedErrors);
 		}
 	}
 	savedState.clear();

@@ -69,6 +69,11 @@ public:
 	// ViscBridgeTimeStepper adds ½(Δt_new − Δt_old)·a when it changes Δt (NaN: not started), the
 	// implicit solver lets the bridges relax it as they relax any velocity.
 	std::vector<Vector3r> velocityOffset;
+	// [accuracy] Per body id, the velocity and position errors the change of its bridges' coefficients
+	// left (physics.md A1c): the implicit solver adds each step's, relaxes the velocity error through
+	// the bridges as an offset and moves the position error by Δt times it; a body the explicit
+	// bridges damp relaxes its velocity error at their rate (NaN: not started).
+	std::vector<Vector3r> velocityError, positionError;
 	// An offset relaxed step after step decays towards subnormal numbers, which slow every sweep of
 	// the factor that relaxes it ~10× (measured: 4 applications' time on the settling bench); far
 	// below any velocity a run resolves, it is none.

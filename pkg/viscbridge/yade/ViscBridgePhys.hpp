@@ -22,6 +22,11 @@ public:
 	// implicitBlockIter, for ViscBridgeImplicitSolver (not saved: rebuilt every step).
 	viscbridge::ViscousBlock implicitBlock;
 	long                     implicitBlockIter = -1;
+	// [accuracy] The block the implicit solver used at step solvedIter, whose Δt was solvedDt: the
+	// change of the bridge's coefficients since then is an error of the step (physics.md A1c).
+	viscbridge::ViscousBlock solvedBlock;
+	long                     solvedIter = -1;
+	double                   solvedDt = 0, solvedGap = 0;
 	// The inputs the constants are built from (the attributes below, once they are set).
 	viscbridge::BridgeInputs bridgeInputs() const;
 	// Builds the constants for the models of `s` (whose names the attributes hold).

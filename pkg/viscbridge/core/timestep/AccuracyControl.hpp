@@ -17,6 +17,8 @@ struct StepMotion {
 	// A4b: the offsets o the next step's Δt can change, of the bodies nothing damps: Δt_{n+1} = Δt_n + δ
 	// makes them o + ½δa; the means of m|o|², m o·a and m|a|² over the bodies' total mass
 	double freeOffsetSq = 0, freeOffsetDotAcceleration = 0, freeAccelerationSq = 0;
+	// A1c: of each body's carried velocity error [m/s] and of the position error it made [m]
+	double carriedVelocity = 0, carriedPosition = 0;
 };
 
 // A2–A3: the two measures of bench/accuracy_cost.py — positions against the distance travelled, and
@@ -25,6 +27,7 @@ class AccuracyEstimate {
 	double positionError = 0, path = 0;   // Σ Δt δv, Σ Δt |v|
 	double energyError = 0, energy = 0;   // Σ Δt 2|v|δv, Σ Δt |v|²  (kinetic energy per unit mass, ×2)
 	double time = 0, local = 0;
+	double carried = 0; // A1c's position error now [m] (not saved: the next step has it)
 	// not saved (the next step has them): the offset's part of local (A3), the velocity error's, the
 	// speed the step is measured against, and the free offsets' quadratic in δ (A4b)
 	double drift = 0, localVelocity = 0, speedScale = 0, offsetSq = 0, offsetDotAcceleration = 0, accelerationSq = 0;
@@ -32,16 +35,21 @@ class AccuracyEstimate {
 public:
 	void record(const StepMotion& m)
 	{
-		if (!(m.dt > 0) || !std::isfinite(m.speed) || !std::isfinite(m.velocityError) || !std::isfinite(m.offset)) return;
+		if (!(m.dt > 0) || !std::isfinite(m.speed) || !std::isfinite(m.velocityError) || !std::isfinite(m.offset)
+		    || !std::isfinite(m.carriedVelocity) || !std::isfinite(m.carriedPosition))
+			return;
+		const double velocityError = std::hypot(m.velocityError, m.carriedVelocity);
 		positionError += m.dt * std::hypot(m.velocityError, m.offset);
+		carried = m.carriedPosition;
 		path += m.dt * m.speed;
-		energyError += m.dt * 2 * m.speed * m.velocityError;
+		energyError += m.dt * 2 * m.speed * velocityError;
 		energy += m.dt * m.speed * m.speed;
 		time += m.dt;
 		// per step, relative to the run's mean so far, or to now if higher, so that a bed coming to
 		// rest is not held to its own vanishing motion
 		speedScale = std::max(path / time, m.speed);
 		const double energyScale = std::max(energy / time, m.speed * m.speed);
+		// the controller's measure: what this step made (A1c's carried error is made: a smaller step does not undo it)
 		localVelocity = std::max(speedScale > 0 ? m.velocityError / speedScale : 0, energyScale > 0 ? 2 * m.speed * m.velocityError / energyScale : 0);
 		drift         = speedScale > 0 ? m.offset / speedScale : 0;
 		local         = std::max(localVelocity, drift);
@@ -51,7 +59,7 @@ public:
 	bool   started() const { return time > 0; }
 	double runError() const
 	{
-		return std::max(path > 0 ? positionError / path : 0, energy > 0 ? energyError / energy : 0);
+		return std::max(path > 0 ? (positionError + carried) / path : 0, energy > 0 ? energyError / energy : 0);
 	}
 	void reset() { *this = AccuracyEstimate(); }
 	// The state a saved scene resumes from.
