@@ -5,7 +5,7 @@ are refused with the parameter named."""
 import math
 
 import pytest
-from scipy.integrate import quad
+from scipy.integrate import quad, solve_ivp
 from yade import O, utils
 import yade.wrapper as yw
 
@@ -136,6 +136,47 @@ def test_a_saved_run_resumes_its_estimate_exactly():
     O.loadTmp('coasting')
     O.run(30, True)
     assert stepper().errorEstimate == pytest.approx(uninterrupted, rel=1e-12)
+
+
+def stiffening_pair(steps, mu=1.0, growth=100.0):
+    """R1 with a bridge that stiffens `growth`-fold as the pair stops (S0 = 0.1 r to S0/growth), at
+    fixed implicit steps of T/steps, to T = the approach and 30 relaxation times.  Returns the gap
+    error at T against the closed form, relative to the distance travelled, and the stepper."""
+    A, S0 = 1.8 * mu, 0.1 * R
+    w0 = A * math.log(growth)
+    T = S0 / w0 + 30 * (S0 / growth) / A
+    mat = material()
+    O.bodies.append([utils.sphere((0, 0, 0), R, material=mat), utils.sphere((2 * R + S0, 0, 0), R, material=mat)])
+    O.bodies[0].state.vel, O.bodies[1].state.vel = (0.5 * w0, 0, 0), (-0.5 * w0, 0, 0)
+    O.engines = viscbridge.engines(gravity=(0, 0, 0), guard=False, minRadius=R, viscosity=mu, sMin=1e-4 * R, integration='implicit',
+                                   normalModel='adamsPerchard', tangentialModel='none', formationDistance=1.5 * S0)
+    ts = stepper()
+    ts.maxDt = T / steps
+    O.dt = 0
+    O.run(steps // 2, True)
+    O.saveTmp('halfway')
+    O.run(steps - steps // 2, True)
+    exact = solve_ivp(lambda t, S: [-(w0 - A * math.log(S0 / S[0]))], (0, O.time), [S0], method='Radau', rtol=1e-12, atol=1e-20).y[0, -1]
+    gap = (O.bodies[1].state.pos - O.bodies[0].state.pos).norm() - 2 * R
+    return abs(gap - exact) / (S0 - exact), ts
+
+
+def test_a_stiffening_bridge_is_estimated_not_filtered_away():
+    """A1c: a bridge whose coefficient grows along a step (C ∝ 1/S, 100-fold here) gives the pair an
+    impulse error that backward Euler does not relax away: the pair stops at a shifted gap, a
+    first-order error.  The estimate follows it (not below it: it was 8–620× below before A1c),
+    halves with Δt as the error does, and a run loaded half-way carries it on exactly."""
+    coarse, ts = stiffening_pair(160)
+    estimate_coarse = ts.errorEstimate
+    O.loadTmp('halfway')
+    O.run(80, True)
+    assert stepper().errorEstimate == pytest.approx(estimate_coarse, rel=1e-12)
+    O.reset()
+    fine, ts = stiffening_pair(640)
+    assert 2.5 < coarse / fine < 6, (coarse, fine)  # first order
+    for error, estimate in ((coarse, estimate_coarse), (fine, ts.errorEstimate)):
+        assert error <= estimate <= 10 * error, (error, estimate)
+    assert 2.5 < estimate_coarse / ts.errorEstimate < 6
 
 
 def test_a_bridge_forming_is_a_jump_of_the_model_not_an_error():

@@ -26,6 +26,8 @@ CREATE_LOGGER(ViscBridgeImplicitSolver);
 void ViscBridgeImplicitSolver::preSave(ViscBridgeImplicitSolver&)
 {
 	factorisedIter        = -1;
+	previousChangeIter    = -1; // nor the last step's velocity changes and error (A1a): the next step
+	stepErrorIter         = -1; // compares with none, and the stepper takes that step's raw error
 	const auto saved      = Omega::instance().getScene(); // the scene being saved (Engine::scene can be stale)
 	noCoefficientChangeAt = saved ? saved->iter : -1;
 }

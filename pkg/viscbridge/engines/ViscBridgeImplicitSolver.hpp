@@ -86,8 +86,9 @@ public:
 	void postLoad(ViscBridgeImplicitSolver&);
 	// Saving refreshes the factorisation at the next step, as loading must (the factor is not saved):
 	// a run continued after O.save and one resumed from the file then solve the same systems.
-	// The blocks of the last step are not saved either: the step after saving carries no change of
-	// coefficients (A1c) in the continued run, as in the resumed one.
+	// The last step's blocks, velocity changes and error are not saved either: in the continued run,
+	// as in the resumed one, the step after saving carries no change of coefficients (A1c), compares
+	// no velocity change (A1a) and the stepper counts the step before it with its raw error (A1).
 	void preSave(ViscBridgeImplicitSolver&);
 	// clang-format off
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR(ViscBridgeImplicitSolver, GlobalEngine,
