@@ -3,6 +3,7 @@
 #include "viscbridge/core/timestep/AccuracyControl.hpp"
 #include <gtest/gtest.h>
 #include <cmath>
+#include <limits>
 
 using viscbridge::AccuracyEstimate;
 using viscbridge::implicitIsCheaper;
@@ -63,6 +64,30 @@ TEST(AccuracyControl, AFreeFallsOffsetSetsTheStepThatKeepsItWithinHalfTheToleran
 	AccuracyEstimate coasting;
 	coasting.record(StepMotion { dt, 0.1, 0.0, 1e-3, 1e-6, 0.0, 0.0 });
 	EXPECT_TRUE(std::isinf(coasting.allowedStep(dt, 1e-3)));
+}
+
+TEST(AccuracyControl, ACarriedErrorCountsInTheRunButOnlyItsNewShareInTheStep)
+{
+	// A1c: a pair that stopped 1e-8 m off after travelling 1e-5 m has a run error of 1e-3 however
+	// small its steps now are; the controller sees only what the step added, so a carried error
+	// does not shrink the step (a smaller step would not undo it), while a share of it made in this
+	// step does, as a step's own error would
+	StepMotion still { 1e-6, 1.0, 0, 0 };
+	still.carriedPosition = 1e-8;
+	AccuracyEstimate carried;
+	for (int n = 0; n < 10; ++n) carried.record(still); // 10 steps at 1 m/s: 1e-5 m
+	EXPECT_NEAR(carried.runError(), 1e-3, 1e-15);
+	still.carriedVelocity = 0.5; // half the speed carried: the energy history is off, the step is not
+	AccuracyEstimate slow;
+	slow.record(still);
+	EXPECT_NEAR(slow.runError(), 1.0, 1e-12); // 2|v||ε|/|v|² of the kinetic energy
+	EXPECT_EQ(slow.stepError(), 0);
+	EXPECT_EQ(slow.allowedStep(1e-6, 1e-2), std::numeric_limits<double>::infinity());
+	still.freshVelocity = 0.5;
+	AccuracyEstimate made;
+	made.record(still);
+	EXPECT_NEAR(made.stepError(), 1.0, 1e-12);
+	EXPECT_NEAR(made.allowedStep(1e-6, 1e-2), 0.2e-6, 1e-18); // shrinks, by at most 5× at once
 }
 
 TEST(AccuracyControl, TheViscousLimitMakesTheImplicitSchemeCheaper)

@@ -137,8 +137,8 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 	const bool                     relax   = offsetsOf(ids, sys.size(), o);
 	const bool                     carry   = carriedErrorsOf(sys, g, x, R, carried, fresh);
 	stepErrorCovered.assign(scene->bodies->size(), 0);
-	stepErrorSq   = 0;
-	stepErrorIter = -1;
+	stepErrorSq = stepCarriedSq = 0;
+	stepErrorIter               = -1;
 	if (!compare && !relax && !carry) return;
 	const bool      factor = pre && preconditionerInUse == cholesky;
 	Eigen::MatrixXd in(sys.size(), int(compare) + int(relax)), out, carriedIn(sys.size(), 2), carriedOut;
@@ -162,11 +162,12 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 		u.segment<3>(6 * static_cast<long>(i)) = out.col(0).segment<3>(6 * static_cast<long>(i));
 	Eigen::VectorXd filtered;
 	sys.filter(u, filtered, 1e-3, 100, pre, factor);
-	// the step's own share of A1c joins A1a's error: it is what a smaller step makes smaller (the
-	// controller's measure, A4), while the error carried from earlier steps is made
+	// and the step's own share of A1c apart: it is what a smaller step makes smaller (the controller's
+	// measure, A4), while the error carried from earlier steps is made
 	for (size_t i = 0; i < ids.size(); ++i) {
 		const auto at = 6 * static_cast<long>(i);
-		stepErrorSq += sys.bodies()[i].mass * (filtered.segment<3>(at).squaredNorm() + (carry ? carriedOut.col(1).segment<3>(at).squaredNorm() : 0.0));
+		stepErrorSq += sys.bodies()[i].mass * filtered.segment<3>(at).squaredNorm();
+		stepCarriedSq += carry ? sys.bodies()[i].mass * carriedOut.col(1).segment<3>(at).squaredNorm() : 0.0;
 		stepErrorCovered[ids[i]] = 1;
 	}
 	stepErrorIter = scene->iter;

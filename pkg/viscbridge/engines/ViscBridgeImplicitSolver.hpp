@@ -62,7 +62,7 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	// [accuracy] the error of this step, filtered by its system (physics.md A1a): for the time
 	// stepper (StepErrorSource), Σ m|δv|² at step stepErrorIter and the bodies it covers
 	long                  stepErrorIter = -1;
-	Real                  stepErrorSq   = 0;
+	Real                  stepErrorSq = 0, stepCarriedSq = 0;
 	std::vector<char>     stepErrorCovered;
 	std::vector<Vector3r> previousChange; // per body id: (v_{n+1/2} − v_{n−1/2})/Δt of the last solve (NaN: not solved; ∞: a jump of the model)
 	std::vector<Vector3r> stepChange;     // workspace: the same for this solve
@@ -81,6 +81,7 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 public:
 	long                     stepErrorStep() const override { return stepErrorIter; }
 	Real                     stepErrorSquared() const override { return stepErrorSq; }
+	Real                     stepCarriedSquared() const override { return stepCarriedSq; }
 	const std::vector<char>& stepErrorCovers() const override { return stepErrorCovered; }
 	void action() override;
 	void postLoad(ViscBridgeImplicitSolver&);

@@ -33,7 +33,7 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 	const auto&           offset  = ViscBridgeContext::of(sc).velocityOffset;
 	const auto&           carried = ViscBridgeContext::of(sc).velocityError; // A1c
 	const auto&           shifted = ViscBridgeContext::of(sc).positionError;
-	Real                  carriedSq = 0, shiftedSq = 0;
+	Real                  carriedSq = 0, shiftedSq = 0, freshSq = 0;
 	const auto            finite    = [](const std::vector<Vector3r>& v, size_t id) { return id < v.size() && v[id].allFinite() ? v[id].squaredNorm() : 0.0; };
 	const Vector3r        gravity = ViscBridgeContext::newtonGravity(sc);
 	static const Vector3r none = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
@@ -70,12 +70,12 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 		}
 		previousForce[id] = f;
 	}
-	if (filtered) errorSq += solver->stepErrorSquared();
+	if (filtered) errorSq += solver->stepErrorSquared(), freshSq = solver->stepCarriedSquared();
 	forceIter = sc->iter;
-	distributed::sum(sc, { &mass, &speedSq, &errorSq, &offsetSq, &freeSq, &freeDot, &freeAccSq, &carriedSq, &shiftedSq }); // [MPI] the same motion on every rank
+	distributed::sum(sc, { &mass, &speedSq, &errorSq, &offsetSq, &freeSq, &freeDot, &freeAccSq, &carriedSq, &shiftedSq, &freshSq }); // [MPI] the same motion on every rank
 	if (!(mass > 0)) return {};
 	return { dt, std::sqrt(speedSq / mass), std::sqrt(errorSq / mass), std::sqrt(offsetSq / mass), freeSq / mass, freeDot / mass, freeAccSq / mass,
-		 std::sqrt(carriedSq / mass), std::sqrt(shiftedSq / mass) };
+		 std::sqrt(carriedSq / mass), std::sqrt(shiftedSq / mass), std::sqrt(freshSq / mass) };
 }
 
 // A loaded scene's offsets, from its saved state (ViscBridgeTimeStepperState.cpp).

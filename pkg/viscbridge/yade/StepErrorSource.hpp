@@ -15,6 +15,9 @@ public:
 	// per body id whether it covers it.
 	virtual long                     stepErrorStep() const   = 0;
 	virtual Real                     stepErrorSquared() const = 0;
+	// Σ m|δv|² of the step's own share of the carried error (A1c), which the controller measures and
+	// the run's error counts through the carried position error instead
+	virtual Real                     stepCarriedSquared() const = 0;
 	virtual const std::vector<char>& stepErrorCovers() const  = 0;
 };
 

@@ -17,8 +17,9 @@ struct StepMotion {
 	// A4b: the offsets o the next step's Δt can change, of the bodies nothing damps: Δt_{n+1} = Δt_n + δ
 	// makes them o + ½δa; the means of m|o|², m o·a and m|a|² over the bodies' total mass
 	double freeOffsetSq = 0, freeOffsetDotAcceleration = 0, freeAccelerationSq = 0;
-	// A1c: of each body's carried velocity error [m/s] and of the position error it made [m]
-	double carriedVelocity = 0, carriedPosition = 0;
+	// A1c: of each body's carried velocity error [m/s], of the position error it made [m], and of the
+	// share of the velocity error this step added [m/s]
+	double carriedVelocity = 0, carriedPosition = 0, freshVelocity = 0;
 };
 
 // A2–A3: the two measures of bench/accuracy_cost.py — positions against the distance travelled, and
@@ -49,8 +50,10 @@ public:
 		// rest is not held to its own vanishing motion
 		speedScale = std::max(path / time, m.speed);
 		const double energyScale = std::max(energy / time, m.speed * m.speed);
-		// the controller's measure: what this step made (A1c's carried error is made: a smaller step does not undo it)
-		localVelocity = std::max(speedScale > 0 ? m.velocityError / speedScale : 0, energyScale > 0 ? 2 * m.speed * m.velocityError / energyScale : 0);
+		// the controller's measure: what this step made (A1c's carried error is made: a smaller step
+		// does not undo it; its share of this step is)
+		const double made = std::hypot(m.velocityError, m.freshVelocity);
+		localVelocity     = std::max(speedScale > 0 ? made / speedScale : 0, energyScale > 0 ? 2 * m.speed * made / energyScale : 0);
 		drift         = speedScale > 0 ? m.offset / speedScale : 0;
 		local         = std::max(localVelocity, drift);
 		offsetSq = m.freeOffsetSq, offsetDotAcceleration = m.freeOffsetDotAcceleration, accelerationSq = m.freeAccelerationSq;
