@@ -167,10 +167,22 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 	for (size_t i = 0; i < ids.size(); ++i) {
 		const auto at = 6 * static_cast<long>(i);
 		stepErrorSq += sys.bodies()[i].mass * filtered.segment<3>(at).squaredNorm();
-		stepCarriedSq += carry ? sys.bodies()[i].mass * carriedOut.col(1).segment<3>(at).squaredNorm() : 0.0;
+		if (carry) stepCarriedSq += sys.bodies()[i].mass * std::pow(persisting(carriedIn.col(1).segment<3>(at), carriedOut.col(1).segment<3>(at)), 2);
 		stepErrorCovered[ids[i]] = 1;
 	}
 	stepErrorIter = scene->iter;
+}
+
+// A1c, for the controller: what a share δ of the step's error, relaxed to (M + Δt D)⁻¹M δ = δ/(1 + z)
+// in its first step, amounts to over the steps it persists: the geometric series δ/(1 + z) · (1 + z)/z,
+// with 1 + z read from how much the step relaxed it (a body's own z; at most 1000 steps' worth, for
+// a share the bridges hardly relax).  For a stiff pair (z ≫ 1) it is the share itself; for one its
+// steps resolve (z ≪ 1) the share of every later step it is carried through — what the run's error
+// accumulates (A2), and the step's size sets.
+Real ViscBridgeImplicitSolver::persisting(const Vector3r& share, const Vector3r& relaxed)
+{
+	const Real made = relaxed.norm(), raw = share.norm();
+	return raw > made * (1 + 1e-3) ? made * raw / (raw - made) : 1e3 * made;
 }
 
 // A1c: the scheme holds each bridge's coefficients over a step in which they change (a gap that
