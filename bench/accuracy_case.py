@@ -8,7 +8,8 @@ Cases:
               and given random velocities of up to 1 cm/s; T = 1e-4 s.  The critical-Δt scans' trial.
   Settling300 viscbridge.scenes.settling(n=300) with random initial speeds of 5 cm/s (bridges form in
               the cloud as spheres meet) and the same liquid; T = 2e-3 s.
-  pair        a head-on pair whose bridge stiffens 100-fold as it stops (R1), not tuned on.
+  pair        a head-on pair whose bridge stiffens 100-fold as it stops (R1), not tuned on;
+  pair_implicit  the same with the tolerance given to integration='implicit'.
 
 Error measures, each relative to a reference run:
   e_x  RMS over the spheres of |x(T) - x_ref(T)|, divided by the RMS displacement of the reference
@@ -95,7 +96,14 @@ class StiffeningPair:
         O.trackEnergy = False
 
 
-CASES = {c.name: c for c in (Bed45, Settling300, StiffeningPair)}
+class StiffeningPairImplicit(StiffeningPair):
+    """The stiffening pair with the tolerance given to the implicit scheme (integration='implicit')
+    instead of letting the stepper choose."""
+    name = 'pair_implicit'
+    integration = 'implicit'
+
+
+CASES = {c.name: c for c in (Bed45, Settling300, StiffeningPair, StiffeningPairImplicit)}
 
 
 def _dynamic():
@@ -165,6 +173,7 @@ def run_stepper(case, mu, integration=None, safety=None, accuracy=None, max_dt=N
     """Run T with ViscBridgeTimeStepper (at `safety`, with the tolerance `accuracy`, integration
     'auto' by default when it is given; Δt held at most `max_dt`, its maxDt), stopping at the first
     step at or after each sample time."""
+    integration = integration or (getattr(case, 'integration', None) if accuracy else None)
     case.prepare(mu, integration, stepper=True, safety=safety, accuracy=accuracy)
     if max_dt:
         next(e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper)).maxDt = max_dt

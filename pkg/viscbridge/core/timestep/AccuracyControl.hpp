@@ -31,7 +31,7 @@ class AccuracyEstimate {
 	double carried = 0; // A1c's position error now [m] (not saved: the next step has it)
 	// not saved (the next step has them): the offset's part of local (A3), the velocity error's, the
 	// speed the step is measured against, and the free offsets' quadratic in δ (A4b)
-	double drift = 0, localVelocity = 0, speedScale = 0, offsetSq = 0, offsetDotAcceleration = 0, accelerationSq = 0;
+	double drift = 0, localVelocity = 0, controlledVelocity = 0, speedScale = 0, offsetSq = 0, offsetDotAcceleration = 0, accelerationSq = 0;
 
 public:
 	void record(const StepMotion& m)
@@ -52,8 +52,11 @@ public:
 		const double energyScale = std::max(energy / time, m.speed * m.speed);
 		// the controller's measure: what this step made (A1c's carried error is made: a smaller step
 		// does not undo it; its share of this step is)
-		const double made = std::hypot(m.velocityError, m.freshVelocity);
-		localVelocity     = std::max(speedScale > 0 ? made / speedScale : 0, energyScale > 0 ? 2 * m.speed * made / energyScale : 0);
+		const auto relative = [&](double v) { return std::max(speedScale > 0 ? v / speedScale : 0, energyScale > 0 ? 2 * m.speed * v / energyScale : 0); };
+		localVelocity      = relative(std::hypot(m.velocityError, m.freshVelocity));
+		// A1c's share is derived, not calibrated: the controller holds it to `carriedShare` of the
+		// tolerance, A1a's error to `calibration` of it (A4a)
+		controlledVelocity = relative(std::hypot(m.velocityError, m.freshVelocity * std::sqrt(calibration / carriedShare)));
 		drift         = speedScale > 0 ? m.offset / speedScale : 0;
 		local         = std::max(localVelocity, drift);
 		offsetSq = m.freeOffsetSq, offsetDotAcceleration = m.freeOffsetDotAcceleration, accelerationSq = m.freeAccelerationSq;
@@ -73,7 +76,7 @@ public:
 	}
 	void restore(const double in[stateSize])
 	{
-		positionError = in[0], path = in[1], energyError = in[2], energy = in[3], time = in[4], local = localVelocity = in[5];
+		positionError = in[0], path = in[1], energyError = in[2], energy = in[3], time = in[4], local = localVelocity = controlledVelocity = in[5];
 	}
 
 	// A4: the step at which the last one's error would meet `tolerance`.  The error per unit step
@@ -83,8 +86,8 @@ public:
 	double allowedStep(double lastDt, double tolerance) const
 	{
 		const double forOffset = offsetStep(lastDt, tolerance);
-		if (!(localVelocity > 0)) return forOffset;
-		return std::min(forOffset, lastDt * std::max(0.2, controllerMargin * std::sqrt(calibration * tolerance / localVelocity)));
+		if (!(controlledVelocity > 0)) return forOffset;
+		return std::min(forOffset, lastDt * std::max(0.2, controllerMargin * std::sqrt(calibration * tolerance / controlledVelocity)));
 	}
 	// A4b: the largest Δt_{n+1} = Δt_n + δ that keeps the free offsets, o + ½δa, within half the
 	// tolerance of the speed (their estimate is exact: no calibration; the other half is the rest's).
@@ -103,6 +106,9 @@ public:
 	// where the run's true error was 0.05–10× its estimate — under at low viscosity, over at high
 	// (docs/performance.md §1)
 	static constexpr double calibration = 0.1;
+	// A1c: the share of the tolerance the carried error's growth is held to (what the run's error
+	// adds up, A2, without A1a's calibration: its estimate is the error itself, not a local proxy)
+	static constexpr double carriedShare = 0.5;
 	// A4: before any step is known, the run starts at `tolerance` × the stability limit (an error
 	// committed cannot be undone: no step is taken twice), and the controller lets it grow by up to
 	// `growth` per step while the estimate allows.
