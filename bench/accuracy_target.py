@@ -1,9 +1,11 @@
 # Accuracy as the input: the error a tolerance achieves and what it costs, against the oracle.
 #
 #   ./yadew run bench/accuracy_target.py [--cases bed45,settling300] [--mu 1,10,100,1000] [--tol 1e-1,1e-2,1e-3]
+#   ./yadew run bench/accuracy_target.py --cases pair,pair_implicit --mu 1 --tol 1e-1,1e-2,1e-3,1e-4
 #   ./yadew run bench/accuracy_target.py --calibration [--cases ...] [--mu ...]   # error ÷ estimate, fixed Δt
 # (about 1.5 min for --cases bed45, 12 min for --cases settling300 with its explicit oracle at
-# 1000 Pa·s, 1.5 min for --calibration, on the development VM)
+# 1000 Pa·s, 3 min for the pair cases, 1.5 min for --calibration --cases bed45, on the development
+# VM; the cases are those of bench/accuracy_case.py: bed45, settling300, pair, pair_implicit)
 #
 # For each case of bench/accuracy_case.py and each viscosity: a reference run; the runs with
 # viscbridge.engines(accuracy=tol) (integration 'auto': the stepper picks the scheme and Δt) for each
@@ -94,6 +96,7 @@ def write_keeping_others(path, mine, ran, text_columns):
             kept = [{k: (v if k in text_columns or not v else float(v)) for k, v in r.items()}
                     for r in csv.DictReader(fh) if r['case'] not in ran]
     common.write_rows(path, kept + mine)
+    return kept + mine
 
 
 def calibration(cases):
@@ -143,8 +146,10 @@ if args.replot:
     with open(os.path.join(common.RESULTS, 'accuracy_target_summary.csv')) as fh:
         summary = [{k: (v if k in ('case', 'oracle') or not v else float(v)) for k, v in r.items()} for r in csv.DictReader(fh)]
 else:  # the rows of the cases not run this time are kept
-    for name, mine in (('accuracy_target.csv', rows), ('accuracy_target_summary.csv', summary)):
-        write_keeping_others(os.path.join(common.RESULTS, name), mine, {c.name for c in CASES}, ('case', 'oracle', 'kind', 'setting', 'stopped'))
+    text = ('case', 'oracle', 'kind', 'setting', 'stopped')
+    ran = {c.name for c in CASES}
+    write_keeping_others(os.path.join(common.RESULTS, 'accuracy_target.csv'), rows, ran, text)
+    summary = write_keeping_others(os.path.join(common.RESULTS, 'accuracy_target_summary.csv'), summary, ran, text)  # all cases, for the figure
 print('\n%-11s %6s %6s | %9s %9s %8s %7s | %-26s %9s %8s | %6s' % (
     'case', 'μ', 'tol', 'error', 'estimate', 'wall [s]', 'steps', 'oracle', 'error', 'wall [s]', 'cost×'))
 for s in summary:
@@ -168,7 +173,7 @@ def plot(summary, png):
             mine = [s for s in summary if s['case'] == case and s['viscosity'] == mu]
             if not mine:
                 continue
-            style = dict(color='C%d' % m, marker='os'[n % 2], ls='-' if n == 0 else '--', label='%s, μ = %g Pa·s' % (case, mu))
+            style = dict(color='C%d' % m, marker='os^D'[n % 4], ls=('-', '--', ':', '-.')[n % 4], label='%s, μ = %g Pa·s' % (case, mu))
             ax_e.loglog([s['tolerance'] for s in mine], [s['error'] for s in mine], **style)
             pts = [(s['tolerance'], s['cost_ratio']) for s in mine if s['cost_ratio']]
             if pts:
@@ -182,7 +187,7 @@ def plot(summary, png):
     ax_c.axhline(2, color='grey', ls=':', lw=1, label='goal: 2× the oracle')
     ax_c.axhline(1, color='grey', lw=0.5)
     ratios = [s['cost_ratio'] for s in summary if s['cost_ratio']] + [1, 2]
-    ax_c.set_yticks([t for t in (0.125, 0.25, 0.5, 1, 2, 4, 8, 16, 32) if min(ratios) / 2 <= t <= max(ratios) * 2])
+    ax_c.set_yticks([t for t in (0.01, 0.03, 0.1, 0.3, 1, 2, 3, 10, 30, 100) if min(ratios) / 2 <= t <= max(ratios) * 2])
     ax_c.yaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter('%g'))
     ax_c.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     ax_c.set_xlabel('tolerance (accuracy=...)')
