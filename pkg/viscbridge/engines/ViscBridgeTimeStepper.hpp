@@ -48,7 +48,8 @@ class ViscBridgeTimeStepper : public TimeStepper {
 	std::vector<Real>             resumedMotion; // [saved scenes] (id, F, o) per body: forces restored at loading, offsets set in the scene at its first step
 	static constexpr size_t       savedMotionStride = 7;
 	std::vector<Real>             resumedErrors; // [saved scenes] (id, ε, ξ) per body: the carried velocity and position errors (A1c), set with the offsets
-	Vector3r                      resumedVector(size_t k, size_t at) const { return Vector3r(resumedMotion[k + at], resumedMotion[k + at + 1], resumedMotion[k + at + 2]); }
+	static constexpr size_t       savedErrorStride = 7;
+	static Vector3r               resumedVector(const std::vector<Real>& saved, size_t at) { return Vector3r(saved[at], saved[at + 1], saved[at + 2]); }
 	Real                          accuracyStep(Scene*); // records the last step; the step the tolerance allows (inf: none)
 	Real                          otherSchemeLimit(Scene*, bool runningImplicit);
 	Law2_ScGeom_ViscBridgePhys_HertzViscous& lawToSwitch(Scene*);

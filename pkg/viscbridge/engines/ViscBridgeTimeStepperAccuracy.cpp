@@ -86,18 +86,16 @@ void ViscBridgeTimeStepper::resumeOffsets(Scene* sc)
 	offset.assign(sc->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
 	for (size_t k = 0; k + savedMotionStride <= resumedMotion.size(); k += savedMotionStride) {
 		const auto id = static_cast<size_t>(resumedMotion[k]);
-		if (id < offset.size()) offset[id] = resumedVector(k, 4);
+		if (id < offset.size()) offset[id] = resumedVector(resumedMotion, k + 4);
 	}
 	std::vector<Real>().swap(resumedMotion);
 	auto& carried = ViscBridgeContext::of(sc).velocityError;
 	auto& shifted = ViscBridgeContext::of(sc).positionError;
 	carried.assign(sc->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
 	shifted.assign(sc->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
-	for (size_t k = 0; k + 7 <= resumedErrors.size(); k += 7) {
+	for (size_t k = 0; k + savedErrorStride <= resumedErrors.size(); k += savedErrorStride) {
 		const auto id = static_cast<size_t>(resumedErrors[k]);
-		if (id < carried.size())
-			carried[id] = Vector3r(resumedErrors[k + 1], resumedErrors[k + 2], resumedErrors[k + 3]),
-			shifted[id] = Vector3r(resumedErrors[k + 4], resumedErrors[k + 5], resumedErrors[k + 6]);
+		if (id < carried.size()) carried[id] = resumedVector(resumedErrors, k + 1), shifted[id] = resumedVector(resumedErrors, k + 4);
 	}
 	std::vector<Real>().swap(resumedErrors);
 }

@@ -183,7 +183,7 @@ void ViscBridgeTimeStepper::resumeForces()
 	for (size_t k = 0; k + savedMotionStride <= resumedMotion.size(); k += savedMotionStride) {
 		const auto id = static_cast<size_t>(resumedMotion[k]);
 		previousForce.resize(std::max(previousForce.size(), id + 1), none);
-		previousForce[id] = resumedVector(k, 1);
+		previousForce[id] = resumedVector(resumedMotion, k + 1);
 	}
 }
 
