@@ -20,6 +20,10 @@ def stepper():
     return next(e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper))
 
 
+def the_law():
+    return next(f for e in O.engines if isinstance(e, yw.InteractionLoop) for f in e.lawDispatcher.functors)
+
+
 def approach(accuracy, mu=4e-3, w0=0.1):
     """R1: a head-on Adams–Perchard approach from S0 = 0.1 r to S_min = 1e-4 r (the pair loses 45 %
     of its speed); returns the gap error when the closed form reaches S_min, relative to the distance
@@ -85,6 +89,26 @@ def test_switching_schemes_mid_run_keeps_the_energy_balance():
     E = dict(O.energy.items())
     assert sum(1 for i in O.interactions if i.phys.bridge) > 20
     assert abs(O.energy.total()) <= 0.01 * abs(E['gravWork']), E
+
+
+def test_the_chosen_scheme_is_the_scenes_and_a_saved_run_resumes_it():
+    """autoIntegration chooses the scheme without touching the law: the law keeps the scheme the run
+    started with (integration) and runs the stepper's choice (integrationInUse); a run saved after
+    the switch to implicit goes on implicitly from its first loaded step, as the run never saved."""
+    wet_box(n=40, mu=10.0, accuracy=1e-2)
+    ts, law = stepper(), the_law()
+    assert law.integrationInUse == law.integration == 'explicit'
+    while not ts.schemeSwitches and O.time < 0.03:
+        O.run(20, True)
+    assert ts.scheme == law.integrationInUse == 'implicit' and law.integration == 'explicit', (ts.scheme, law.integrationInUse)
+    O.saveTmp('switched')
+    O.run(60, True)
+    uninterrupted = [tuple(b.state.pos) for b in O.bodies]
+    O.loadTmp('switched')
+    law = the_law()
+    assert law.integrationInUse == 'implicit' and law.integration == 'explicit'
+    O.run(60, True)
+    assert [tuple(b.state.pos) for b in O.bodies] == pytest.approx(uninterrupted, rel=1e-12, abs=1e-15)
 
 
 def falling(bridged=False):

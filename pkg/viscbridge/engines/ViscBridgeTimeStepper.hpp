@@ -6,13 +6,12 @@
 #include "viscbridge/yade/AttributeRollback.hpp"
 #include "viscbridge/scene/NetworkTimeStepBound.hpp"
 #include "viscbridge/core/timestep/AccuracyControl.hpp"
+#include "viscbridge/yade/SchemeChooser.hpp"
 #include <core/TimeStepper.hpp>
 
 namespace yade {
 
-class Law2_ScGeom_ViscBridgePhys_HertzViscous;
-
-class ViscBridgeTimeStepper : public TimeStepper {
+class ViscBridgeTimeStepper : public TimeStepper, public SchemeChooser {
 	NetworkTimeStepBound          bound;   // P14 and the Rayleigh bound
 	NetworkOfScene                network; // the operator of P16–P18
 	std::vector<viscbridge::Vec6> modeById; // the last dominant mode, per body id (the warm start)
@@ -52,8 +51,9 @@ class ViscBridgeTimeStepper : public TimeStepper {
 	static Vector3r               resumedVector(const std::vector<Real>& saved, size_t at) { return Vector3r(saved[at], saved[at + 1], saved[at + 2]); }
 	Real                          accuracyStep(Scene*); // records the last step; the step the tolerance allows (inf: none)
 	Real                          otherSchemeLimit(Scene*, bool runningImplicit);
-	Law2_ScGeom_ViscBridgePhys_HertzViscous& lawToSwitch(Scene*);
+	void                          requireSchemeEngines(Scene*) const; // what autoIntegration needs, or an exception naming it
 	void                          chooseScheme(Scene*, Real accuracyStepNow);
+	int                           chosenScheme = -1; // autoIntegration's choice (a viscbridge::Integration; -1: none yet), saved
 	static constexpr long         minSchemeSteps = 50;
 	bool                          decided        = false; // whether autoIntegration has chosen since this object was made or loaded
 
@@ -82,6 +82,8 @@ class ViscBridgeTimeStepper : public TimeStepper {
 public:
 	void computeTimeStep(Scene*) override;
 	bool isActivated() override;
+	bool choosesIntegration() const override { return autoIntegration; }
+	int  chosenIntegration() const override { return chosenScheme; }
 	Real exactLimit();
 	void reset();
 	void resetErrorEstimate() { accuracyEstimate.reset(); errorEstimate = stepError = 0; restartOffsets = true; }
@@ -130,7 +132,7 @@ public:
 		((Real,errorBound,0,Attr::readonly,"Relative width of the bracket of the true limit: (dtRitz − dtNetwork)/dtRitz."))
 		((string,governing,"collision",Attr::readonly,"What sets dt: 'viscous-network' (a mode of the network dominated by the bridges' damping), 'collision' (one dominated by contact stiffness), 'rayleigh' (the spheres' Rayleigh bound), or 'accuracy' (the step the tolerance `accuracy` allows is below the stability limit)."))
 		((Real,accuracy,0,Attr::triggerPostLoad|Attr::noSave,"Tolerance on the run's relative error, in (0, 1); 0: none (dt from stability alone). With a tolerance, dt is also at most the step at which the last step's error estimate (stepError) would meet it (physics.md A4: first order, with a margin 0.9, shrinking at most 5× per step, growing at most maxGrowth×), so the run's error — positions against their distance travelled, as bench/accuracy_cost.py measures it — stays near the tolerance (docs/timestep.md says where this holds). governing says 'accuracy' when it sets dt."))
-		((bool,autoIntegration,false,Attr::noSave,"Choose the scheme per phase of the run (physics.md A5): switch :yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous.integration` between 'explicit' and 'implicit' at full updates, whichever is cheaper for the step that stability and `accuracy` allow, an implicit step costing implicitCost explicit ones (needs :yref:`ViscBridgeImplicitSolver` in O.engines: viscbridge.engines(integration='auto') sets all up). The limit of the scheme not running is its rigorous bound P14, so a switch errs on the side of staying. scheme and schemeSwitches say which ran."))
+		((bool,autoIntegration,false,Attr::noSave,"Choose the scheme per phase of the run (physics.md A5): switch the scheme of the viscous forces between 'explicit' and 'implicit' at full updates (the scene's scheme, read by :yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous.integrationInUse`; the law's own integration is the scheme the run starts with), whichever is cheaper for the step that stability and `accuracy` allow, an implicit step costing implicitCost explicit ones (needs :yref:`ViscBridgeImplicitSolver` in O.engines: viscbridge.engines(integration='auto') sets all up). The limit of the scheme not running is its rigorous bound P14, so a switch errs on the side of staying. scheme and schemeSwitches say which ran."))
 		((Real,implicitCost,3,Attr::triggerPostLoad|Attr::noSave,"With autoIntegration: the cost of an implicit step in explicit steps, >= 1 (2–4 measured on beds of 300 spheres, 4–14 on 10³–10⁴: docs/performance.md §3)."))
 		((string,scheme,"",Attr::readonly|Attr::noSave,"The scheme of the viscous forces at the last step: 'explicit' or 'implicit'."))
 		((long,schemeSwitches,0,Attr::readonly|Attr::noSave,"Switches of the scheme made by autoIntegration."))

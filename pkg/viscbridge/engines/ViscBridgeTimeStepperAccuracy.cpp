@@ -174,18 +174,15 @@ Real ViscBridgeTimeStepper::otherSchemeLimit(Scene* sc, bool runningImplicit)
 	return std::min(otherBound.combined, otherBound.rayleigh);
 }
 
-Law2_ScGeom_ViscBridgePhys_HertzViscous& ViscBridgeTimeStepper::lawToSwitch(Scene* sc)
+void ViscBridgeTimeStepper::requireSchemeEngines(Scene* sc) const
 {
-	// the scene owns its functors mutably; the finder hands them out const for the validation
-	auto* law = const_cast<Law2_ScGeom_ViscBridgePhys_HertzViscous*>(findViscBridgeFunctors(sc).law);
-	if (!law || !ViscBridgeContext::hasEngine(sc, "ViscBridgeImplicitSolver"))
+	if (!findViscBridgeFunctors(sc).law || !ViscBridgeContext::hasEngine(sc, "ViscBridgeImplicitSolver"))
 		throw std::invalid_argument("ViscBridgeTimeStepper.autoIntegration=True needs Law2_ScGeom_ViscBridgePhys_HertzViscous in an "
 		                            "InteractionLoop and ViscBridgeImplicitSolver in O.engines (viscbridge.engines(integration='auto') "
 		                            "adds both); set autoIntegration=False or add them.");
 	if (distributed::active(sc))
 		throw std::invalid_argument("ViscBridgeTimeStepper.autoIntegration=True is not available under yade.mpy; allowed there: False "
 		                            "(choose Law2_ScGeom_ViscBridgePhys_HertzViscous.integration yourself).");
-	return *law;
 }
 
 // A5, decided after this step's dt is set (the law has already run this step with the scheme in
@@ -199,13 +196,12 @@ void ViscBridgeTimeStepper::chooseScheme(Scene* sc, Real accuracyStepNow)
 	// set), and keep a scheme for minSchemeSteps (a transient of the error estimate does not send
 	// the run back and forth)
 	if ((lastSwitchIter >= 0 && sc->iter - lastSwitchIter < minSchemeSteps) || (lastUpdateIter != sc->iter && decided)) return;
-	Law2_ScGeom_ViscBridgePhys_HertzViscous& law = lawToSwitch(sc);
-	decided                                      = true;
+	requireSchemeEngines(sc);
+	decided = true;
 	const Real other         = safety * otherSchemeLimit(sc, implicit);
 	const Real explicitLimit = implicit ? other : dtBound, implicitLimit = implicit ? dtBound : other;
 	if (vb::implicitIsCheaper(implicit, accuracyStepNow, explicitLimit, implicitLimit, implicitCost) == implicit) return;
-	law.integration = implicit ? "explicit" : "implicit";
-	law.postLoad(law);
+	chosenScheme   = static_cast<int>(implicit ? vb::Integration::explicitEuler : vb::Integration::implicitEuler); // the law reads it from the next step
 	lastSwitchIter = sc->iter;
 	lastUpdateIter = -1; // the other operator: a full update at the next step
 	forceIter      = -1; // the forces the stepper sees gain or lose the viscous ones: no error from that change

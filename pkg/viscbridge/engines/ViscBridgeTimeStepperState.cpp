@@ -144,6 +144,9 @@ void ViscBridgeTimeStepper::preSave(ViscBridgeTimeStepper&)
 		if (previousForce[id].allFinite() && e.allFinite() && x.allFinite()) errors.insert(errors.end(), { Real(id), e[0], e[1], e[2], x[0], x[1], x[2] });
 	}
 	pack(savedState, errors);
+	// the scheme autoIntegration chose (A5): the law of the loaded scene runs it from its first step,
+	// before the stepper (older scenes end here; their law's integration held the choice)
+	savedState.push_back(Real(chosenScheme));
 }
 
 void ViscBridgeTimeStepper::reset()
@@ -230,6 +233,7 @@ void ViscBridgeTimeStepper::restoreSavedState()
 			r.unpack(resumedMotion);
 			resumeForces();
 			if (r.at < savedState.size()) r.unpack(resumedErrors);
+			if (r.at < savedState.size()) chosenScheme = static_cast<int>(r.next());
 		}
 	}
 	savedState.clear();

@@ -2,6 +2,7 @@
 #include "viscbridge/distributed/Distributed.hpp"
 #include "viscbridge/yade/Ip2_FrictMat_FrictMat_ViscBridgePhys.hpp"
 #include "viscbridge/yade/Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
+#include "viscbridge/yade/SchemeChooser.hpp"
 #include "viscbridge/core/models/Registry.hpp"
 #include "viscbridge/core/util/Validation.hpp"
 #include <core/Clump.hpp>
@@ -76,17 +77,21 @@ namespace {
 
 	void validateImplicit(const Scene* scene, const ViscBridgeFunctors& f, bool solverAfterLoop, bool newtonAfterSolver, const NewtonIntegrator* newton)
 	{
+		// what asks for the implicit scheme: the law, or a time stepper that may switch to it
+		const std::string asking = viscousIntegrationIsImplicit(scene)
+		        ? "Law2_ScGeom_ViscBridgePhys_HertzViscous.integration='implicit'"
+		        : "ViscBridgeTimeStepper.autoIntegration=True (it may switch to the implicit scheme)";
 		if (!solverAfterLoop || !newtonAfterSolver)
-			throw std::invalid_argument("Law2_ScGeom_ViscBridgePhys_HertzViscous.integration='implicit' needs a ViscBridgeImplicitSolver engine between "
-			                            "InteractionLoop and NewtonIntegrator; O.engines has none there (viscbridge.engines(integration='implicit') inserts it).");
-		if (newton && newton->damping != 0) vb::rejectValue("NewtonIntegrator", "damping", newton->damping, "0 with implicit viscous integration");
+			throw std::invalid_argument(asking + " needs a ViscBridgeImplicitSolver engine between InteractionLoop and NewtonIntegrator; O.engines "
+			                            "has none there (viscbridge.engines(integration='implicit' or 'auto') inserts it).");
+		if (newton && newton->damping != 0) vb::rejectValue("NewtonIntegrator", "damping", newton->damping, "0 with implicit viscous integration (" + asking + ")");
 		// checked once here from the models' capabilities, not per bridge per step
 		if (f.ip2 && !vb::TangentialModels::capabilities[f.ip2->selection.tangential].implicitCapable) {
 			std::string allowed;
 			for (std::size_t i = 0; i < vb::TangentialModels::size; ++i)
 				if (vb::TangentialModels::capabilities[i].implicitCapable) allowed += std::string(allowed.empty() ? "'" : ", '") + vb::TangentialModels::names[i] + "'";
 			throw std::invalid_argument("Ip2_FrictMat_FrictMat_ViscBridgePhys.tangentialModel='" + f.ip2->tangentialModel
-			                            + "' is not dissipative (physics.md P7) and cannot be integrated implicitly; allowed with integration='implicit': "
+			                            + "' is not dissipative (physics.md P7) and cannot be integrated implicitly; allowed with " + asking + ": "
 			                            + allowed + ".");
 		}
 	}
@@ -142,7 +147,7 @@ void validateScene(const Scene* scene, bool checkDt)
 	distributed::requireParticlesOnWorkers(scene);     // [MPI]
 	distributed::refuseClumps(scene);                  // [MPI]
 	distributed::requireOneSubdomainWhenSerial(scene); // [MPI] e.g. a merged scene run on serially
-	if (f.law->integrationIndex != static_cast<int>(vb::Integration::implicitEuler)) return;
+	if (!viscousIntegrationMayBeImplicit(scene)) return;
 	bool                    seenLoop = false, solverAfterLoop = false, newtonAfterSolver = false;
 	const NewtonIntegrator* newton = nullptr;
 	for (const auto& e : scene->engines) {
@@ -159,7 +164,13 @@ void validateScene(const Scene* scene, bool checkDt)
 bool viscousIntegrationIsImplicit(const Scene* scene)
 {
 	const ViscBridgeFunctors f = findViscBridgeFunctors(scene);
-	return f.law && f.law->integrationIndex == static_cast<int>(viscbridge::Integration::implicitEuler);
+	return f.law && integrationInUse(scene, f.law->integrationIndex) == viscbridge::Integration::implicitEuler;
+}
+
+bool viscousIntegrationMayBeImplicit(const Scene* scene)
+{
+	const auto* chooser = ViscBridgeContext::findEngine<SchemeChooser>(scene);
+	return viscousIntegrationIsImplicit(scene) || (chooser && chooser->choosesIntegration());
 }
 
 } // namespace yade

@@ -1,4 +1,5 @@
 #include "viscbridge/yade/Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
+#include "viscbridge/yade/SchemeChooser.hpp"
 #include "viscbridge/distributed/Distributed.hpp"
 #include "viscbridge/core/pair/PairKernel.hpp"
 #include "viscbridge/yade/ViscBridgeContext.hpp"
@@ -135,7 +136,7 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::beginStep()
 		if (stepIter.load(std::memory_order_relaxed) != scene->iter || stepScene != scene) {
 			context = ViscBridgeContext::shared(scene);
 			context->beginStep(scene->iter);
-			stepImplicit = integrationIndex == static_cast<int>(vb::Integration::implicitEuler);
+			stepImplicit = integrationInUse(scene, integrationIndex) == vb::Integration::implicitEuler;
 			if (stepImplicit && !ViscBridgeContext::hasEngine(scene, "ViscBridgeImplicitSolver")) {
 				stepImplicit = false;
 				reportMissingSolver();
@@ -151,7 +152,8 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::reportMissingSolver()
 {
 	// Exceptions cannot leave InteractionLoop's parallel loop, so the error is raised by a
 	// ViscBridgeGuard at the start of the next step (this step falls back to explicit forces).
-	const std::string msg = "Law2_ScGeom_ViscBridgePhys_HertzViscous.integration='implicit' needs a ViscBridgeImplicitSolver engine between "
+	const std::string msg = "the implicit scheme (Law2_ScGeom_ViscBridgePhys_HertzViscous.integration='implicit', or chosen by "
+	                        "ViscBridgeTimeStepper.autoIntegration) needs a ViscBridgeImplicitSolver engine between "
 	                        "InteractionLoop and NewtonIntegrator, and O.engines has none (viscbridge.engines(integration='implicit') inserts it).";
 	LOG_ERROR(msg << " This step used explicit viscous forces; the run stops.");
 	context->raiseAtNextStep(scene, msg);
@@ -186,6 +188,12 @@ bool Law2_ScGeom_ViscBridgePhys_HertzViscous::go(shared_ptr<IGeom>& ig, shared_p
 	auto& geom = static_cast<ScGeom&>(*ig);
 	auto& ph   = static_cast<ViscBridgePhys&>(*ip);
 	return kernels[(ph.kernel * 2 + (scene->trackEnergy ? 1 : 0)) * 2 + (stepImplicit ? 1 : 0)](*this, geom, ph, I);
+}
+
+std::string Law2_ScGeom_ViscBridgePhys_HertzViscous::integrationInUseName() const
+{
+	const Scene* sc = Omega::instance().getScene().get();
+	return vb::integrationNames[static_cast<std::size_t>(integrationInUse(sc, integrationIndex))];
 }
 
 Real Law2_ScGeom_ViscBridgePhys_HertzViscous::capillaryInput() const

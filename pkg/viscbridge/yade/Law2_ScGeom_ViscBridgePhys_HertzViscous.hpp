@@ -20,7 +20,7 @@ class Law2_ScGeom_ViscBridgePhys_HertzViscous : public LawFunctor {
 	// What the law looks up once per step (the first interaction of the step does it, the others wait).
 	std::atomic<long>             stepIter { -1 };
 	const Scene*                  stepScene = nullptr;
-	bool                          stepImplicit = false; // integration is 'implicit' and the solver is there
+	bool                          stepImplicit = false; // the scheme in use is implicit (SchemeChooser.hpp) and the solver is there
 	const FilmSource*             stepFilms = nullptr; // O.engines' ViscBridgeLiquid, if any
 	void                          beginStep();
 	void                          reportMissingSolver();
@@ -47,6 +47,7 @@ public:
 	FUNCTOR2D(ScGeom, ViscBridgePhys);
 	// clang-format off
 	Real capillaryInput() const; // −capillaryWork with the last step's work, not booked yet
+	std::string integrationInUseName() const; // the scheme now: `integration`, or the one ViscBridgeTimeStepper chose
 	YADE_CLASS_BASE_DOC_ATTRS_CTOR_PY(Law2_ScGeom_ViscBridgePhys_HertzViscous, LawFunctor,
 		"Hertz–Mindlin contact with Coulomb friction (as :yref:`Law2_ScGeom_MindlinPhys_Mindlin`, "
 		"optionally with contact damping) plus the viscous forces of a liquid bridge: normal "
@@ -69,11 +70,14 @@ public:
 		"forces were computed with and the velocities that followed ($W=F\\cdot(v_{n-1/2}+v_{n+1/2})/2\\,\\Delta t$, "
 		"booked at the next step, when $v_{n+1/2}$ is known): it matches the kinetic energy YADE's "
 		"leapfrog reports, so ``O.energy.total()`` stays near 0 at any stable time step.",
-		((string,integration,"explicit",Attr::triggerPostLoad,"Time integration of the viscous forces: 'explicit' (the paper's framework: forces from the velocities the integrator stores; stable for $\\Delta t<2t_v$, P12) or 'implicit' (backward Euler over the contact network, P15, solved by :yref:`ViscBridgeImplicitSolver`, which must be in O.engines; unconditionally stable for the viscous part)."))
+		((string,integration,"explicit",Attr::triggerPostLoad,"Time integration of the viscous forces: 'explicit' (the paper's framework: forces from the velocities the integrator stores; stable for $\\Delta t<2t_v$, P12) or 'implicit' (backward Euler over the contact network, P15, solved by :yref:`ViscBridgeImplicitSolver`, which must be in O.engines; unconditionally stable for the viscous part). With :yref:`ViscBridgeTimeStepper.autoIntegration` the stepper chooses the scheme per phase of the run, and this is the scheme the run starts with (integrationInUse says which runs)."))
 		,
 		/* ctor */ energyIndex.fill(-1); rollback.keep(std::tie(integration));
 		,
 		/* py */
+		.add_property("integrationInUse", &Law2_ScGeom_ViscBridgePhys_HertzViscous::integrationInUseName,
+		              "The scheme of the viscous forces now, 'explicit' or 'implicit': :yref:`integration<Law2_ScGeom_ViscBridgePhys_HertzViscous.integration>`, "
+		              "or, once a :yref:`ViscBridgeTimeStepper` with autoIntegration has chosen, its choice (it never changes integration).")
 		.add_property("capillaryInput", &Law2_ScGeom_ViscBridgePhys_HertzViscous::capillaryInput,
 		              "Energy the capillary forces have put into the particles since this law was created [J], with or "
 		              "without energy tracking (P21): minus the work booked as ``O.energy['capillaryWork']``, which books a "
