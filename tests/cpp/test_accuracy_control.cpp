@@ -7,6 +7,7 @@
 
 using viscbridge::AccuracyEstimate;
 using viscbridge::implicitIsCheaper;
+using viscbridge::persistingShare;
 using viscbridge::StepMotion;
 
 TEST(AccuracyControl, RunErrorIsTheRelativeErrorOfItsSteps)
@@ -88,6 +89,17 @@ TEST(AccuracyControl, ACarriedErrorCountsInTheRunButOnlyItsNewShareInTheStep)
 	made.record(still);
 	EXPECT_NEAR(made.stepError(), 1.0, 1e-12);
 	EXPECT_NEAR(made.allowedStep(1e-6, 1e-2), 0.2e-6, 1e-18); // shrinks, by at most 5× at once
+}
+
+TEST(AccuracyControl, AStepsShareCountsOverTheStepsItPersists)
+{
+	// a share relaxed to 1/(1 + z) per step adds 1/(1+z) + 1/(1+z)² + … = 1/z of itself to the
+	// velocity errors of the steps that follow: once for a stiff bridge, 100× for a soft one
+	for (const double z : { 100.0, 1.0, 0.01 })
+		EXPECT_NEAR(persistingShare(2.0, 2.0 / (1 + z)), 2.0 / z, 1e-9 / z) << z;
+	// one the step does not relax at all (a free body's) counts as 1000 steps' worth, not infinitely
+	EXPECT_DOUBLE_EQ(persistingShare(2.0, 2.0), 2000.0);
+	EXPECT_EQ(persistingShare(0.0, 0.0), 0.0);
 }
 
 TEST(AccuracyControl, TheViscousLimitMakesTheImplicitSchemeCheaper)

@@ -6,6 +6,7 @@
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include "viscbridge/core/linalg/ImplicitViscousSystem.hpp"
 #include "viscbridge/core/linalg/LaggedPreconditioner.hpp"
+#include "viscbridge/core/timestep/AccuracyControl.hpp"
 #include "viscbridge/core/util/AvailableMemory.hpp"
 #include "viscbridge/core/util/Validation.hpp"
 #include "viscbridge/scene/SceneValidation.hpp"
@@ -124,10 +125,11 @@ void ViscBridgeImplicitSolver::action()
 // What the time stepper's estimate needs of this step (physics.md A1a–A1c): the step's error
 // filtered twice by its system, and the leapfrog's offsets and the carried errors relaxed once by
 // it.  Each filter is one application of the lagged Cholesky factor (or a CG solve with another
-// preconditioner); the error's first filter and the offsets' share one (a sweep over a large factor
-// is memory-bound: two columns cost little more than one), the carried errors' another, checked
-// by one product and refined by CG where the factor lags this step's matrix: a lagged factor would
-// not relax what the bridges' new coefficients relax, and A1c carries on what it keeps.
+// preconditioner); the error's first filter, the offsets and the carried errors share one (a sweep
+// over a large factor is memory-bound: four columns cost little more than one).  The carried
+// errors are refined by CG where the factor lags this step's matrix — where this step's solve took
+// more than one iteration: a lagged factor would not relax what the bridges' new coefficients
+// relax, and A1c carries on what it keeps.
 void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
                                                  const std::vector<vb::BridgeResistance>& R, const vb::Preconditioner* pre)
 {
@@ -140,26 +142,28 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 	stepErrorSq = stepCarriedSq = 0;
 	stepErrorIter               = -1;
 	if (!compare && !relax && !carry) return;
+	// the columns: [u] [o] [carried fresh], filtered together with the factor
+	const long      at0 = 0, atO = at0 + long(compare), atCarried = atO + long(relax), columns = atCarried + 2 * long(carry);
 	const bool      factor = pre && preconditionerInUse == cholesky;
-	Eigen::MatrixXd in(sys.size(), int(compare) + int(relax)), out, carriedIn(sys.size(), 2), carriedOut;
-	if (compare) in.col(0) = u;
-	if (relax) in.col(in.cols() - 1) = o;
-	if (in.cols() > 0) sys.filterColumns(in, out, 1e-3, 100, pre, factor);
-	if (relax) storeRelaxed(ids, out.col(out.cols() - 1), ViscBridgeContext::of(scene).velocityOffset);
-	if (carry) { // relaxed by this step's matrix, not a lagged one: what it does not relax it carries on (A1c)
-		carriedIn << carried, fresh;
-		sys.filterColumns(carriedIn, carriedOut, 1e-2, 100, pre, factor);
-		for (int c = 0; c < 2 && factor; ++c) { // CG from the factor's answer: one product where it holds
-			Eigen::VectorXd y = carriedOut.col(c);
-			sys.filter(carriedIn.col(c), y, 1e-2, 100, pre, false);
-			carriedOut.col(c) = y;
+	Eigen::MatrixXd in(sys.size(), columns), out;
+	if (compare) in.col(at0) = u;
+	if (relax) in.col(atO) = o;
+	if (carry) in.col(atCarried) = carried, in.col(atCarried + 1) = fresh;
+	if (factor) sys.filterColumns(in, out, 1e-3, 100, pre, true);
+	else filteredApart(sys, in, out, atCarried, pre);
+	if (relax) storeRelaxed(ids, out.col(atO), ViscBridgeContext::of(scene).velocityOffset);
+	if (carry) {
+		for (long c = atCarried; c < columns && factor && iterations > 1; ++c) { // CG from the factor's answer where it lags
+			Eigen::VectorXd y = out.col(c);
+			sys.filter(in.col(c), y, 1e-2, 100, pre, false);
+			out.col(c) = y;
 		}
-		storeCarried(ids, carriedOut.col(0) + carriedOut.col(1));
+		storeCarried(ids, out.col(atCarried) + out.col(atCarried + 1));
 	}
 	if (!compare) return;
 	u.setZero();
 	for (size_t i = 0; i < ids.size(); ++i) // the second filter takes the translations only, as the first
-		u.segment<3>(6 * static_cast<long>(i)) = out.col(0).segment<3>(6 * static_cast<long>(i));
+		u.segment<3>(6 * static_cast<long>(i)) = out.col(at0).segment<3>(6 * static_cast<long>(i));
 	Eigen::VectorXd filtered;
 	sys.filter(u, filtered, 1e-3, 100, pre, factor);
 	// and the step's own share of A1c apart: it is what a smaller step makes smaller (the controller's
@@ -167,22 +171,25 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 	for (size_t i = 0; i < ids.size(); ++i) {
 		const auto at = 6 * static_cast<long>(i);
 		stepErrorSq += sys.bodies()[i].mass * filtered.segment<3>(at).squaredNorm();
-		if (carry) stepCarriedSq += sys.bodies()[i].mass * std::pow(persisting(carriedIn.col(1).segment<3>(at), carriedOut.col(1).segment<3>(at)), 2);
+		if (carry)
+			stepCarriedSq += sys.bodies()[i].mass
+			        * std::pow(vb::persistingShare(in.col(atCarried + 1).segment<3>(at).norm(), out.col(atCarried + 1).segment<3>(at).norm()), 2);
 		stepErrorCovered[ids[i]] = 1;
 	}
 	stepErrorIter = scene->iter;
 }
 
-// A1c, for the controller: what a share δ of the step's error, relaxed to (M + Δt D)⁻¹M δ = δ/(1 + z)
-// in its first step, amounts to over the steps it persists: the geometric series δ/(1 + z) · (1 + z)/z,
-// with 1 + z read from how much the step relaxed it (a body's own z; at most 1000 steps' worth, for
-// a share the bridges hardly relax).  For a stiff pair (z ≫ 1) it is the share itself; for one its
-// steps resolve (z ≪ 1) the share of every later step it is carried through — what the run's error
-// accumulates (A2), and the step's size sets.
-Real ViscBridgeImplicitSolver::persisting(const Vector3r& share, const Vector3r& relaxed)
+// Without the factor, each column by CG: the step's error and the offsets (the columns before
+// `carriedFrom`) to 10⁻³, the carried errors to 10⁻² (an estimate of what an error does next).
+void ViscBridgeImplicitSolver::filteredApart(const vb::ImplicitViscousSystem& sys, const Eigen::MatrixXd& in, Eigen::MatrixXd& out, long carriedFrom,
+                                             const vb::Preconditioner* pre)
 {
-	const Real made = relaxed.norm(), raw = share.norm();
-	return raw > made * (1 + 1e-3) ? made * raw / (raw - made) : 1e3 * made;
+	out.resize(in.rows(), in.cols());
+	Eigen::MatrixXd part;
+	sys.filterColumns(in.leftCols(carriedFrom), part, 1e-3, 100, pre, false);
+	out.leftCols(carriedFrom) = part;
+	sys.filterColumns(in.rightCols(in.cols() - carriedFrom), part, 1e-2, 100, pre, false);
+	out.rightCols(in.cols() - carriedFrom) = part;
 }
 
 // A1c: the scheme holds each bridge's coefficients over a step in which they change (a gap that

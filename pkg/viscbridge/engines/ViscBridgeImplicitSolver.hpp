@@ -75,7 +75,8 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	bool stepErrorChange(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
 	                     Eigen::VectorXd& u); // false: nothing to compare with
 	bool offsetsOf(const std::vector<Body::id_t>& ids, size_t size, Eigen::VectorXd& o);
-	static Real persisting(const Vector3r& share, const Vector3r& relaxed);
+	static void filteredApart(const viscbridge::ImplicitViscousSystem& sys, const Eigen::MatrixXd& in, Eigen::MatrixXd& out, long carriedFrom,
+	                          const viscbridge::Preconditioner* pre);
 	void storeCarried(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed);
 	static void storeRelaxed(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed, std::vector<Vector3r>& perBody);
 

@@ -41,6 +41,8 @@ class ViscBridgeTimeStepper : public TimeStepper, public SchemeChooser {
 	void                          advanceOffsets(Scene*, Real dtBefore); // A1b, once the step's dt is set
 	static Vector3r               acceleration(const State&, const Vector3r& force, const Vector3r& gravity);
 	Real                          explicitDamping(size_t id) const;
+	Real                          carryExplicit(const Body&, const Vector3r& dv, Real dt, Vector3r& carried, Vector3r& shifted) const;
+	static Real                   liveDamping(const Body&);
 	void                          resumeOffsets(Scene*);
 	void                          resumeForces();
 	bool                          restartOffsets = false; // resetErrorEstimate(): the offsets start afresh too

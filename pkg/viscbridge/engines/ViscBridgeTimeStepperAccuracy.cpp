@@ -31,13 +31,14 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 	Real                  mass = 0, speedSq = 0, errorSq = 0, offsetSq = 0, freeSq = 0, freeDot = 0, freeAccSq = 0;
 	resumeOffsets(sc);
 	const auto&           offset  = ViscBridgeContext::of(sc).velocityOffset;
-	const auto&           carried = ViscBridgeContext::of(sc).velocityError; // A1c
-	const auto&           shifted = ViscBridgeContext::of(sc).positionError;
+	auto&                 carried = ViscBridgeContext::of(sc).velocityError; // A1c
+	auto&                 shifted = ViscBridgeContext::of(sc).positionError;
 	Real                  carriedSq = 0, shiftedSq = 0, freshSq = 0;
 	const auto            finite    = [](const std::vector<Vector3r>& v, size_t id) { return id < v.size() && v[id].allFinite() ? v[id].squaredNorm() : 0.0; };
 	const Vector3r        gravity = ViscBridgeContext::newtonGravity(sc);
 	static const Vector3r none = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
 	previousForce.resize(n, none);
+	carried.resize(n, none), shifted.resize(n, none);
 	// a bridge that formed this step adds its force at once: a jump of the model, not a change the
 	// step integrated, so its bodies' force change is not an error (their next step's is)
 	for (const BridgeEvent& e : ViscBridgeContext::of(sc).events(sc->iter))
@@ -56,10 +57,11 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 		const bool      covered = filtered && solver->stepErrorCovers()[id]; // its error is in the solver's sum
 		const bool      raw     = !covered && valid && previousForce[id].allFinite();
 		if (covered || raw) {
-			const Real dv = raw ? 0.5 * dt * (f - previousForce[id]).norm() / m : 0;
+			const Vector3r dv = raw ? Vector3r(0.5 * dt * (f - previousForce[id]) / m) : Vector3r::Zero();
 			mass += m;
 			speedSq += m * b->state->vel.squaredNorm();
-			errorSq += m * dv * dv;
+			if (raw && explicitDamping(id) > 0) freshSq += m * std::pow(carryExplicit(*b, dv, dt, carried[id], shifted[id]), 2);
+			else errorSq += m * dv.squaredNorm();
 			carriedSq += m * finite(carried, id), shiftedSq += m * finite(shifted, id);
 			const Vector3r o = id < offset.size() && offset[id].allFinite() ? offset[id] : Vector3r::Zero();
 			offsetSq += m * o.squaredNorm();
@@ -70,12 +72,41 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 		}
 		previousForce[id] = f;
 	}
-	if (filtered) errorSq += solver->stepErrorSquared(), freshSq = solver->stepCarriedSquared();
+	if (filtered) errorSq += solver->stepErrorSquared(), freshSq += solver->stepCarriedSquared();
 	forceIter = sc->iter;
 	distributed::sum(sc, { &mass, &speedSq, &errorSq, &offsetSq, &freeSq, &freeDot, &freeAccSq, &carriedSq, &shiftedSq, &freshSq }); // [MPI] the same motion on every rank
 	if (!(mass > 0)) return {};
 	return { dt, std::sqrt(speedSq / mass), std::sqrt(errorSq / mass), std::sqrt(offsetSq / mass), freeSq / mass, freeDot / mass, freeAccSq / mass,
 		 std::sqrt(carriedSq / mass), std::sqrt(shiftedSq / mass), std::sqrt(freshSq / mass) };
+}
+
+// A1c under the explicit scheme: a body its bridges damp keeps the velocity error δv of a step as a
+// backward-Euler body does, relaxed at the bridges' live rate z = Δt Σ C^n(S)/m* (the viscous force
+// lags the velocity it damps, which a step of the same size cannot undo) and moving the body by Δt
+// times it; the run's error counts the position error ξ it makes, not Δt|δv|.  Between the bridges'
+// S_min, where P14 rates them, and their live gaps the rates differ up to S_rup/S_min-fold: a
+// velocity error relaxed at P14's rate would be forgotten long before the bridges forget it.
+// Returns the share of the step for the controller: δv over the steps it persists (A1c).
+Real ViscBridgeTimeStepper::carryExplicit(const Body& b, const Vector3r& dv, Real dt, Vector3r& carried, Vector3r& shifted) const
+{
+	const Real relax = 1 + dt * liveDamping(b);
+	if (!carried.allFinite() || !shifted.allFinite()) carried = shifted = Vector3r::Zero();
+	carried = ViscBridgeContext::relaxedOffset((carried + dv) / relax);
+	shifted = ViscBridgeContext::relaxedOffset(shifted + dt * carried);
+	return vb::persistingShare(dv.norm(), dv.norm() / relax);
+}
+
+// The normal damping of a body's bridges at their gaps now, Σ C^n(S)/m* (P3; P14's row sum takes
+// them at S_min): the rate at which they relax its velocity relative to its neighbours.
+Real ViscBridgeTimeStepper::liveDamping(const Body& b)
+{
+	Real rate = 0;
+	for (const auto& [other, I] : b.intrs) {
+		if (!I->isReal()) continue;
+		const auto* ph = dynamic_cast<const ViscBridgePhys*>(I->phys.get());
+		if (ph && ph->bridge && ph->mEff > 0) rate += ph->cn / ph->mEff;
+	}
+	return rate;
 }
 
 // A loaded scene's offsets, from its saved state (ViscBridgeTimeStepperState.cpp).
@@ -147,9 +178,8 @@ void ViscBridgeTimeStepper::advanceOffsets(Scene* sc, Real dtBefore)
 			continue;
 		}
 		const Real damping = explicitDamping(id);
-		if (damping > 0) {
+		if (damping > 0) { // (its carried error, A1c, is relaxed with the step's own error: carryExplicit)
 			offset[id] = offset[id].allFinite() ? ViscBridgeContext::relaxedOffset(offset[id] / (1 + sc->dt * damping)) : Vector3r::Zero();
-			if (carried[id].allFinite()) carried[id] = ViscBridgeContext::relaxedOffset(carried[id] / (1 + sc->dt * damping));
 			continue;
 		}
 		const Vector3r a = acceleration(*(*sc->bodies)[id]->state, previousForce[id], gravity);

@@ -22,6 +22,17 @@ struct StepMotion {
 	double carriedVelocity = 0, carriedPosition = 0, freshVelocity = 0;
 };
 
+// A1c, for the controller: what a share of a step's velocity error, `raw` [m/s], that the step relaxed
+// to `relaxed` = raw/(1 + z) amounts to over the steps it persists: the geometric series
+// raw/(1 + z) · (1 + z)/z, with 1 + z read from how much the step relaxed it (at most 1000 steps'
+// worth, for a share the bridges hardly relax).  For a stiff pair (z ≫ 1) it is the share itself;
+// for one its steps resolve (z ≪ 1) the share of every later step it is carried through — what the
+// run's error accumulates (A2), and the step's size sets.
+inline double persistingShare(double raw, double relaxed)
+{
+	return raw > relaxed * (1 + 1e-3) ? relaxed * raw / (raw - relaxed) : 1e3 * relaxed;
+}
+
 // A2–A3: the two measures of bench/accuracy_cost.py — positions against the distance travelled, and
 // the kinetic-energy history — accumulated over the run, and per step relative to the run's mean.
 class AccuracyEstimate {
