@@ -127,9 +127,10 @@ void ViscBridgeImplicitSolver::action()
 // it.  Each filter is one application of the lagged Cholesky factor (or a CG solve with another
 // preconditioner); the error's first filter, the offsets and the carried errors share one (a sweep
 // over a large factor is memory-bound: four columns cost little more than one).  The carried
-// errors are refined by CG where the factor lags this step's matrix — where this step's solve took
-// more than one iteration: a lagged factor would not relax what the bridges' new coefficients
-// relax, and A1c carries on what it keeps.
+// errors are checked by one product and refined by CG where the factor lags this step's matrix: a
+// lagged factor would not relax what the bridges' new coefficients relax, and A1c carries on what
+// it keeps (this step's solve taking one iteration does not tell: its warm start can hide the lag,
+// and the stiffening pair's estimate moved 4-fold when the check was skipped on it).
 void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
                                                  const std::vector<vb::BridgeResistance>& R, const vb::Preconditioner* pre)
 {
@@ -153,7 +154,7 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 	else filteredApart(sys, in, out, atCarried, pre);
 	if (relax) storeRelaxed(ids, out.col(atO), ViscBridgeContext::of(scene).velocityOffset);
 	if (carry) {
-		for (long c = atCarried; c < columns && factor && iterations > 1; ++c) { // CG from the factor's answer where it lags
+		for (long c = atCarried; c < columns && factor; ++c) { // CG from the factor's answer: one product where it holds
 			Eigen::VectorXd y = out.col(c);
 			sys.filter(in.col(c), y, 1e-2, 100, pre, false);
 			out.col(c) = y;
