@@ -167,7 +167,7 @@ def plot(summary, png):
     cases = list(dict.fromkeys(s['case'] for s in summary))
     viscosities = list(dict.fromkeys(s['viscosity'] for s in summary))
     tolerances = sorted({s['tolerance'] for s in summary})
-    fig, (ax_e, ax_c) = plt.subplots(1, 2, figsize=(10, 4.4))
+    fig, (ax_e, ax_c) = plt.subplots(1, 2, figsize=(12.5, 4.6))
     for n, case in enumerate(cases):
         for m, mu in enumerate(viscosities):
             mine = [s for s in summary if s['case'] == case and s['viscosity'] == mu]
@@ -183,7 +183,6 @@ def plot(summary, png):
     ax_e.set_xlabel('tolerance (accuracy=...)')
     ax_e.set_ylabel('achieved error against the reference')
     ax_e.set_title('error', fontsize=9)
-    ax_e.legend(fontsize=6)
     ax_c.axhline(2, color='grey', ls=':', lw=1, label='goal: 2× the oracle')
     ax_c.axhline(1, color='grey', lw=0.5)
     ratios = [s['cost_ratio'] for s in summary if s['cost_ratio']] + [1, 2]
@@ -193,11 +192,14 @@ def plot(summary, png):
     ax_c.set_xlabel('tolerance (accuracy=...)')
     ax_c.set_ylabel('wall time / the oracle\'s')
     ax_c.set_title('cost against the cheapest fixed setting that meets the tolerance', fontsize=9)
-    ax_c.legend(fontsize=6)
     for a in (ax_e, ax_c):
         a.grid(True, which='both', alpha=0.3)
+    # one legend for both panels, beside them: inside, it hid the points it names
+    handles, labels = ax_e.get_legend_handles_labels()
+    goal = [(h, lab) for h, lab in zip(*ax_c.get_legend_handles_labels()) if lab.startswith('goal')]
+    fig.legend(handles + [h for h, _ in goal], labels + [lab for _, lab in goal], loc='center right', fontsize=7, frameon=False)
     fig.suptitle('Accuracy as the input (viscbridge.engines(accuracy=...)): achieved error and cost')
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 0.82, 1))
     fig.savefig(png, dpi=110)
 
 
