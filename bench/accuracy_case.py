@@ -10,6 +10,10 @@ Cases:
               the cloud as spheres meet) and the same liquid; T = 2e-3 s.
   pair        a head-on pair whose bridge stiffens 100-fold as it stops (R1), not tuned on;
   pair_implicit  the same with the tolerance given to integration='implicit'.
+  wall        a 5 mm sphere thrown at 3 m/s onto a wall through a bridge: viscous approach, Hertz
+              impact, capture; gravity on; T = 3e-4 s (the approach and the impact); not tuned on.
+  capillary   a pair at rest pulled into contact by its bridge's capillary force against the viscous
+              one, then settling in contact; T = 4e-2 s; not tuned on.
 
 Error measures, each relative to a reference run:
   e_x  RMS over the spheres of |x(T) - x_ref(T)|, divided by the RMS displacement of the reference
@@ -30,6 +34,7 @@ import yade.wrapper as yw
 
 import viscbridge
 import viscbridge.scan as scan
+from viscbridge.measures import capillary_input
 from viscbridge.scenes import instability
 
 R = 0.5e-3
@@ -103,7 +108,51 @@ class StiffeningPairImplicit(StiffeningPair):
     integration = 'implicit'
 
 
-CASES = {c.name: c for c in (Bed45, Settling300, StiffeningPair, StiffeningPairImplicit)}
+class WallImpact:
+    """A sphere of r = 5 mm thrown at 3 m/s onto a wall, with gravity, through a bridge that forms
+    0.1 r above it: the bridge takes most of the speed (Adams–Perchard, 1000-fold stiffening to
+    S_min = 1e-4 r), the rest goes into a Hertz impact (E = 10 MPa, about 1 ms), and the bridge holds
+    the sphere on the rebound.  Not tuned on.  The speed does not scale with μ: from 10 Pa·s the
+    bridge stops the sphere before it touches."""
+    name = 'wall'
+    RADIUS = 5e-3
+    SPEED = 3.0
+    T = 3e-4
+
+    def prepare(self, mu, integration, stepper=False, safety=None, accuracy=None):
+        O.reset()
+        r, S0 = self.RADIUS, 0.1 * self.RADIUS
+        mat = O.materials.append(yw.FrictMat(young=1e7, poisson=0.3, density=2500, frictionAngle=0.5))
+        O.bodies.append([utils.wall(0, axis=2, material=mat), utils.sphere((0, 0, r + 0.9 * S0), r, material=mat)])
+        O.bodies[1].state.vel = (0, 0, -self.SPEED)
+        O.engines = viscbridge.engines(viscosity=mu, integration=integration, timeStepper=stepper, safety=safety, guard=False,
+                                       minRadius=r, accuracy=accuracy, sMin=1e-4 * r, normalModel='adamsPerchard',
+                                       tangentialModel='slip', formationDistance=S0)
+        O.trackEnergy = False
+
+
+class CapillaryPair:
+    """Two spheres (r = 0.5 mm) at rest 0.02 r apart, pulled together by their bridge's capillary force
+    (Willett, γ = 0.07 N/m, θ = 0, 1 % of a sphere's volume) against its viscous resistance: the gap
+    closes about exponentially (C ∝ 1/S against an almost constant pull), then the pair settles in
+    Hertz contact held by the pull.  No gravity.  Not tuned on; a conservative force the estimate
+    has not met."""
+    name = 'capillary'
+    S0 = 0.02 * R
+    T = 4e-2
+
+    def prepare(self, mu, integration, stepper=False, safety=None, accuracy=None):
+        O.reset()
+        mat = O.materials.append(yw.FrictMat(young=1e7, poisson=0.3, density=2500, frictionAngle=0.5))
+        O.bodies.append([utils.sphere((0, 0, 0), R, material=mat), utils.sphere((2 * R + self.S0, 0, 0), R, material=mat)])
+        O.engines = viscbridge.engines(gravity=(0, 0, 0), viscosity=mu, integration=integration, timeStepper=stepper, safety=safety,
+                                       guard=False, minRadius=R, accuracy=accuracy, sMin=1e-4 * R, normalModel='adamsPerchard',
+                                       tangentialModel='slip', formationDistance=1.5 * self.S0, capillaryModel='willett',
+                                       surfaceTension=0.07, contactAngle=0.0, bridgeVolumeRel=0.01)
+        O.trackEnergy = False
+
+
+CASES = {c.name: c for c in (Bed45, Settling300, StiffeningPair, StiffeningPairImplicit, WallImpact, CapillaryPair)}
 
 
 def _dynamic():
@@ -134,7 +183,7 @@ def _sampled(case, advance, slopes=False):
     for j in range(1, SAMPLES + 1):
         k_before = advance(t0 + j * case.T / SAMPLES, slopes)
         ke = utils.kineticEnergy()
-        released = sum(O.bodies[i].state.mass * 9.81 * (z0[i] - O.bodies[i].state.pos[2]) for i in dyn)
+        released = sum(O.bodies[i].state.mass * 9.81 * (z0[i] - O.bodies[i].state.pos[2]) for i in dyn) + capillary_input()
         why = instability(ke, released, ke0)
         if why:
             break

@@ -39,10 +39,11 @@ SAFETIES = [1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125]
 # implicit Δt = T/10/k: k = 2 is 5e-6 s on bed45 (below its collision step), 32 is 6.25e-6 s on settling300
 IMPLICIT_K = {'bed45': [2, 4, 16, 64, 256, 1024], 'settling300': [32, 64, 128, 256, 1024], 'pair': [4, 16, 64, 256, 1024, 4096]}
 IMPLICIT_K['pair_implicit'] = IMPLICIT_K['pair']
+IMPLICIT_K.update(wall=[4, 16, 64, 256, 1024], capillary=[4, 16, 64, 256, 1024, 4096])
 # The references: implicit at Δt = T/10/k, 2.4e-9 s on bed45, 4.9e-8 s on settling300 — their own
 # errors (against twice the step) 1e-5 or less.  Not accuracy_cost's explicit run at a quarter of
 # the stepper's limit: at 1 Pa·s its own error is 1.1e-3, as large as the tightest tolerance.
-REFERENCE_K = {'bed45': 4096, 'settling300': 4096, 'pair': 65536, 'pair_implicit': 65536}
+REFERENCE_K = {'bed45': 4096, 'settling300': 4096, 'pair': 65536, 'pair_implicit': 65536, 'wall': 16384, 'capillary': 16384}
 
 
 def reference_run(case, mu):

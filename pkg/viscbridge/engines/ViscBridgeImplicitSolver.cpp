@@ -126,11 +126,13 @@ void ViscBridgeImplicitSolver::action()
 // filtered twice by its system, and the leapfrog's offsets and the carried errors relaxed once by
 // it.  Each filter is one application of the lagged Cholesky factor (or a CG solve with another
 // preconditioner); the error's first filter, the offsets and the carried errors share one (a sweep
-// over a large factor is memory-bound: four columns cost little more than one).  The carried
-// errors are checked by one product and refined by CG where the factor lags this step's matrix: a
-// lagged factor would not relax what the bridges' new coefficients relax, and A1c carries on what
-// it keeps (this step's solve taking one iteration does not tell: its warm start can hide the lag,
-// and the stiffening pair's estimate moved 4-fold when the check was skipped on it).
+// over a large factor is memory-bound: four columns cost little more than one).  The offsets and
+// the carried errors are checked by one product each and refined by CG where the factor lags this
+// step's matrix: a lagged factor would not relax what the bridges' new coefficients relax, and A1b
+// and A1c carry on what it keeps (this step's solve taking one iteration does not tell: its warm
+// start hides the lag; the stiffening pair's estimate moved 4-fold when the check was skipped on
+// it, and a capillary pair whose gap closed 200-fold since the factorisation kept offsets as large
+// as its speed, an estimate 850x its true error).
 void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
                                                  const std::vector<vb::BridgeResistance>& R, const vb::Preconditioner* pre)
 {
@@ -152,15 +154,13 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 	if (carry) in.col(atCarried) = carried, in.col(atCarried + 1) = fresh;
 	if (factor) sys.filterColumns(in, out, 1e-3, 100, pre, true);
 	else filteredApart(sys, in, out, atCarried, pre);
-	if (relax) storeRelaxed(ids, out.col(atO), ViscBridgeContext::of(scene).velocityOffset);
-	if (carry) {
-		for (long c = atCarried; c < columns && factor; ++c) { // CG from the factor's answer: one product where it holds
-			Eigen::VectorXd y = out.col(c);
-			sys.filter(in.col(c), y, 1e-2, 100, pre, false);
-			out.col(c) = y;
-		}
-		storeCarried(ids, out.col(atCarried) + out.col(atCarried + 1));
+	for (long c = atO; c < columns && factor; ++c) { // CG from the factor's answer: one product where it holds
+		Eigen::VectorXd y = out.col(c);
+		sys.filter(in.col(c), y, 1e-2, 100, pre, false);
+		out.col(c) = y;
 	}
+	if (relax) storeRelaxed(ids, out.col(atO), ViscBridgeContext::of(scene).velocityOffset);
+	if (carry) storeCarried(ids, out.col(atCarried) + out.col(atCarried + 1));
 	if (!compare) return;
 	u.setZero();
 	for (size_t i = 0; i < ids.size(); ++i) // the second filter takes the translations only, as the first

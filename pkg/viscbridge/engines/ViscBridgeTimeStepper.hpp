@@ -41,8 +41,9 @@ class ViscBridgeTimeStepper : public TimeStepper, public SchemeChooser {
 	void                          advanceOffsets(Scene*, Real dtBefore); // A1b, once the step's dt is set
 	static Vector3r               acceleration(const State&, const Vector3r& force, const Vector3r& gravity);
 	Real                          explicitDamping(size_t id) const;
-	Real                          carryExplicit(const Body&, const Vector3r& dv, Real dt, Vector3r& carried, Vector3r& shifted) const;
-	static Real                   liveDamping(const Body&);
+	Real                          carryExplicit(size_t id, const Vector3r& dv, Real dt, Vector3r& carried, Vector3r& shifted) const;
+	std::vector<Real>             liveDamping; // per body id, under the explicit scheme: its bridges' Σ C^n(S)/m* (A1c)
+	void                          gatherLiveDamping(Scene*);
 	void                          resumeOffsets(Scene*);
 	void                          resumeForces();
 	bool                          restartOffsets = false; // resetErrorEstimate(): the offsets start afresh too
