@@ -100,7 +100,7 @@ Real ViscBridgeTimeStepper::carryExplicit(size_t id, const Vector3r& dv, Real dt
 
 // Per body id, the normal damping of its bridges at their gaps now, Σ C^n(S)/m* (P3; P14's row sum
 // takes them at S_min): the rate at which they relax its velocity relative to its neighbours.  One
-// pass over the interactions (a walk of each body's own map cost the study bed a fifth of a step).
+// pass over the interactions (a walk of each body's own map cost the study bed 7 % of a step more).
 void ViscBridgeTimeStepper::gatherLiveDamping(Scene* sc)
 {
 	liveDamping.assign(sc->bodies->size(), 0);

@@ -71,8 +71,9 @@ public:
 	std::vector<Vector3r> velocityOffset;
 	// [accuracy] Per body id, the velocity and position errors the change of its bridges' coefficients
 	// left (physics.md A1c): the implicit solver adds each step's, relaxes the velocity error through
-	// the bridges as an offset and moves the position error by Δt times it; a body the explicit
-	// bridges damp relaxes its velocity error at their rate (NaN: not started).
+	// the bridges as an offset and moves the position error by Δt times it; under the explicit scheme
+	// the time stepper carries a damped body's step error the same way, at its bridges' live rate
+	// (NaN: not started).
 	std::vector<Vector3r> velocityError, positionError;
 	// An offset relaxed step after step decays towards subnormal numbers, which slow every sweep of
 	// the factor that relaxes it ~10× (measured: 4 applications' time on the settling bench); far
