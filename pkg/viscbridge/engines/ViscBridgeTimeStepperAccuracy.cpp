@@ -46,8 +46,10 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 			for (Body::id_t id : { e.id1, e.id2 })
 				if (static_cast<size_t>(id) < n) previousForce[id] = none;
 	sc->forces.sync();
-	if (viscousImplicit()) liveDamping.clear(); // (the solver carries its bodies' errors)
-	else gatherLiveDamping(sc);
+	// A1c's carry of the explicit scheme (the solver carries its own bodies' errors), with the live
+	// rates gathered at the first body that needs them: a dry scene never pays the pass
+	const bool explicitScheme = !viscousImplicit();
+	bool       liveGathered   = false;
 	for (size_t id = 0; id < n; ++id) {
 		const shared_ptr<Body>& b = (*sc->bodies)[id];
 		if (!b || !b->isDynamic() || b->isClumpMember() || !own.body(*b) || distributed::isSubdomainBody(*b) || !(b->state->mass > 0)) {
@@ -62,8 +64,10 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 			const Vector3r dv = raw ? Vector3r(0.5 * dt * (f - previousForce[id]) / m) : Vector3r::Zero();
 			mass += m;
 			speedSq += m * b->state->vel.squaredNorm();
-			if (raw && id < liveDamping.size() && explicitDamping(id) > 0) freshSq += m * std::pow(carryExplicit(id, dv, dt, carried[id], shifted[id]), 2);
-			else errorSq += m * dv.squaredNorm();
+			if (raw && explicitScheme && explicitDamping(id) > 0) {
+				if (!liveGathered) gatherLiveDamping(sc), liveGathered = true;
+				freshSq += m * std::pow(carryExplicit(id, dv, dt, carried[id], shifted[id]), 2);
+			} else errorSq += m * dv.squaredNorm();
 			carriedSq += m * finite(carried, id), shiftedSq += m * finite(shifted, id);
 			const Vector3r o = id < offset.size() && offset[id].allFinite() ? offset[id] : Vector3r::Zero();
 			offsetSq += m * o.squaredNorm();
