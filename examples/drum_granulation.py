@@ -78,6 +78,10 @@ try:
                   drum.revolutions(), O.time, O.iter, time.time() - start, row['agglomerates'], row['granules'],
                   100 * row['granulated_mass_fraction'], row['granule_d50'], row['largest'], row['coordination']))
 except KeyboardInterrupt as stop:
+    # the interrupt reaches Python while YADE's loop may still be in a step (whose recorder may be
+    # writing that step's row): let the step end before recording the state it leaves
+    O.pause()
+    O.wait()
     history.record()
     history.plot(png, title=drum.describe())
     print('\ninterrupted (%s) at %.3f revolutions: %d rows in %s, plotted in %s' % (
