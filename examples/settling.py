@@ -79,6 +79,8 @@ for key, label, kw in runs:
     try:
         why, at_rest = scene.settle(max_duration if kw.get('integration') == 'implicit' else explicit_duration)
     except KeyboardInterrupt as stop:
+        O.pause()  # the step in progress (and its logger) ends before the history is saved
+        O.wait()
         csv_path, _ = scene.save(os.path.join(out_dir, key))
         print('\ninterrupted (%s) in run %s at t = %.4g s: its history so far is in %s%s' % (
             str(stop) or 'Ctrl-C', key, O.time, csv_path, ', the finished runs\' files beside it' if summary else ''))
