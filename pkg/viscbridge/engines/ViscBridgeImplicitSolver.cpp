@@ -251,6 +251,7 @@ bool ViscBridgeImplicitSolver::carriedErrorsOf(const vb::ImplicitViscousSystem& 
 #pragma omp parallel for schedule(static) reduction(|| : any)
 	for (long i = 0; i < n; ++i) {
 		const Vector3r& was = context.velocityError[g.ids[i]];
+		if (!(sys.bodies()[i].mass > 0)) continue; // a wall or a fixed body: no velocity to be wrong
 		Vector3r        f, t;
 		sys.resultantOn(i, wrongGap, f, t); // in the order of the body's bridges: the same sum on any number of threads
 		carried.segment<3>(6 * i) = was + f / sys.bodies()[i].mass;

@@ -271,6 +271,14 @@ public:
 		return y;
 	}
 
+	// M u on the free rows, zero elsewhere whatever u holds there (a fixed body's entry may be
+	// undefined: what it would be per unit of its zero mass).
+	VecXd freeLoad(const VecXd& u, const VecXd& mask) const
+	{
+		const VecXd free = (mask.array() > 0).select(u, 0.0); // before M: a body's inertia mixes its components
+		return inertialLoad(free).cwiseProduct(mask);
+	}
+
 	// A_ff v (rows outside `mask` zero), timed and counted in rep.
 	auto maskedProduct(const VecXd& mask, SolveReport& rep) const
 	{
@@ -341,7 +349,7 @@ public:
 	void filter(const VecXd& u, VecXd& y, double tolerance, int maxIterations, const Preconditioner* pre, bool factor) const
 	{
 		const VecXd mask = freeMask();
-		const VecXd b    = inertialLoad(u).cwiseProduct(mask);
+		const VecXd b    = freeLoad(u, mask);
 		if (factor && pre) {
 			pre->apply(b, y);
 			y.array() *= mask.array();
@@ -366,7 +374,7 @@ public:
 			const VecXd mask = freeMask();
 			MatXd       B(U.rows(), U.cols());
 			for (long c = 0; c < U.cols(); ++c)
-				B.col(c) = inertialLoad(U.col(c)).cwiseProduct(mask);
+				B.col(c) = freeLoad(U.col(c), mask);
 			pre->applyColumns(B, Y);
 			Y.array().colwise() *= mask.array();
 			return;
