@@ -8,7 +8,8 @@
 #
 # The scene is viscbridge.scenes.settling(n=300): a loose cloud (solid fraction 0.2) falling onto
 # the floor of a walled column, bridges forming at contact, Adams–Perchard + slip, S_min = 1e-3 r̄.
-#   implicit   ViscBridgeTimeStepper (safety 0.5; governed by the collisions), run for 0.1 s.
+#   implicit   ViscBridgeTimeStepper (safety 0.5; governed by the collisions), run for 0.1 s; once
+#              more per μ with errorFilterInterval = 1, for the every-step estimate (untimed).
 #   explicit   its critical step is the one measured on the settled bed of the study
 #              (docs/data/critical_dt_explicit.csv, same particles and liquid): 0.1 s at that step
 #              is too long to run at 100 and 1000 Pa·s, so its wall time is projected from the
@@ -74,16 +75,21 @@ def state_summary(scene):
 ROUNDS = 3
 
 
-def implicit_run(mu):
-    """ViscBridge implicit at the stepper's (collision) step for 0.1 s: the row, and the solver."""
+def implicit_run(mu, filter_interval=None):
+    """ViscBridge implicit at the stepper's (collision) step for 0.1 s: the row, and the solver.
+    filter_interval: the stepper's errorFilterInterval (None: its default)."""
     scene = scenes.settling(n=N, radius=R, viscosity=mu, integration='implicit', trackEnergy=False)
+    stepper = next(e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper))
+    if filter_interval is not None:
+        stepper.errorFilterInterval = filter_interval
     wall, engines_s, steps = timed_run(DURATION)
     solver = next(e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver))
     ke, released, why = state_summary(scene)
     row = dict(viscosity=mu, run='viscbridge implicit', dt=O.dt, steps=steps, wall_seconds=wall,
                engine_seconds=engines_s, projected=False, cg_iterations_per_step=solver.totalIterations / max(solver.solves, 1),
                factorisations=solver.factorisations, fallbacks=solver.fallbacks, bridges=scene.bridges(),
-               kinetic_over_released=ke / released, unstable=why or '')
+               kinetic_over_released=ke / released, unstable=why or '', error_estimate=stepper.errorEstimate,
+               estimate_filters=solver.estimateFilters)
     row.update({'solver_seconds': solver.execTime * 1e-9, 'interaction_loop_seconds': engine_time(yw.InteractionLoop)})
     row.update({k: getattr(solver, k) for k in common.SOLVER_TIMES})
     return row, scene
@@ -128,9 +134,11 @@ def yade_run(mu, dt):
                 kinetic_over_released=ke / released if released > 0 else None, unstable=why or '')
 
 
-best, explicit, slowest = {}, {}, {}
+best, explicit, slowest, every_step = {}, {}, {}, {}
 for r in range(ROUNDS):
     for mu in viscosities:
+        if mu not in every_step:  # the estimate filtered in full at every step (physics.md A1d), once
+            every_step[mu] = implicit_run(mu, filter_interval=1)[0]['error_estimate']
         ours, scene = implicit_run(mu)
         if mu not in explicit:
             explicit[mu] = explicit_projection(mu, scene)
@@ -147,6 +155,7 @@ rows = []
 for mu in viscosities:
     ours, theirs = best[(mu, 'viscbridge implicit')], best[(mu, 'yade ImplicitLubrication')]
     ours['ratio_to_yade'] = ours['wall_seconds'] / theirs['wall_seconds']
+    ours['estimate_over_every_step'] = ours['error_estimate'] / every_step[mu]
     for row in (ours, theirs):  # the slowest of the rounds: the scatter of this machine
         row['slowest_wall_seconds'], row['rounds'] = slowest[(mu, row['run'])], ROUNDS
     rows += [ours, explicit[mu], theirs]
@@ -162,6 +171,8 @@ for r in rows:
 print('(* projected from the cost of 400 steps)')
 for mu in viscosities:
     ours = best[(mu, 'viscbridge implicit')]
+    print('μ=%g: error estimate %.3g, %.2f× the one filtered every step (%d full filters in %d steps)' % (
+        mu, ours['error_estimate'], ours['estimate_over_every_step'], ours['estimate_filters'], ours['steps']))
     print('μ=%g: ViscBridge implicit / YADE ImplicitLubrication = %.2f; solver %.2f s of %.2f s (gather %.2f, refresh %.2f, '
           'solve %.2f = products %.2f + preconditioner %.2f + rest, apply %.2f, energy %.2f, error estimate %.2f), InteractionLoop %.2f s'
           % (mu, ours['ratio_to_yade'], ours['solver_seconds'], ours['wall_seconds'], ours['timeGather'], ours['timeFactorise'],

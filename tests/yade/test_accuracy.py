@@ -74,6 +74,49 @@ def test_the_controller_grows_dt_at_rest_and_shrinks_it_at_an_impact():
     assert shortest < 0.5 * rest, (shortest, rest)
 
 
+def settling_estimate(interval, steps=1500, **kw):
+    """A 60-sphere bed landing through bridges (implicit), the estimate filtered in full every
+    `interval` steps: (the run's error estimate, full filters, solves)."""
+    O.reset()
+    settling(n=60, viscosity=10.0, integration='implicit', guard=False, trackEnergy=False, **kw)
+    stepper().errorFilterInterval = interval
+    O.run(steps, True)
+    solver = next(e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver))
+    return stepper().errorEstimate, solver.estimateFilters, solver.solves
+
+
+def test_between_filters_the_estimate_stays_on_the_safe_side():
+    """A1d: filtered in full every 8th step (Δt is the collision limit here, constant), the estimate
+    costs an eighth of the filters and is not below the one filtered every step (what waits between
+    filters is relaxed later, not less), nor more than 2× above it."""
+    every, filters1, solves1 = settling_estimate(1)
+    eighth, filters8, solves8 = settling_estimate(8)
+    assert solves1 > 500 and filters1 == solves1, (filters1, solves1)
+    assert solves8 / 8 - 1 <= filters8 <= solves8 / 8 + 10, (filters8, solves8)
+    assert every <= eighth <= 2 * every, (every, eighth)
+    O.saveTmp('filtered')
+    O.loadTmp('filtered')
+    assert stepper().errorFilterInterval == 8  # a saved run keeps its interval
+
+
+def test_the_estimate_is_filtered_every_step_where_the_tolerance_sets_dt():
+    """A1d: the controller needs the full estimate of every step it sizes (the stiffening pair,
+    implicit, accuracy 1e-3, errorFilterInterval 8)."""
+    O.reset()
+    T, _ = stiffening_pair_scene()
+    ts = stepper()
+    ts.accuracy, ts.errorFilterInterval = 1e-3, 8
+    solver = next(e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver))
+    governed, unfiltered = 0, []
+    while O.time < T:
+        before = (solver.estimateFilters, solver.solves)
+        O.step()
+        if solver.solves > before[1] and solver.estimateFilters == before[0] and ts.governing == 'accuracy':
+            unfiltered.append(O.iter)
+        governed += ts.governing == 'accuracy' and solver.solves > before[1]
+    assert governed > 50 and not unfiltered, (governed, unfiltered[:10])
+
+
 def test_switching_schemes_mid_run_keeps_the_energy_balance():
     """A dry cloud runs explicit; as it lands, bridges form and the stepper switches to implicit."""
     wet_box(n=40, mu=10.0, accuracy=1e-2)

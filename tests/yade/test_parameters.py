@@ -24,6 +24,7 @@ ATTRIBUTES = [
     (yw.ViscBridgeTimeStepper, 'maxGrowth', 0.5, '[1,'),
     (yw.ViscBridgeTimeStepper, 'rayleighFraction', 0.0, '(0, 1]'),
     (yw.ViscBridgeTimeStepper, 'maxDt', -1e-6, '>= 0'),
+    (yw.ViscBridgeTimeStepper, 'errorFilterInterval', 0, '[1,'),
     (yw.ViscBridgeImplicitSolver, 'tolerance', 0.0, '(0, 1)'),
     (yw.ViscBridgeImplicitSolver, 'tolerance', 1.0, '(0, 1)'),
     (yw.ViscBridgeImplicitSolver, 'maxIterations', 0, '[1,'),

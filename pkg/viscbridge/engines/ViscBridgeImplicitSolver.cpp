@@ -29,6 +29,8 @@ void ViscBridgeImplicitSolver::preSave(ViscBridgeImplicitSolver&)
 	factorisedIter        = -1;
 	previousChangeIter    = -1; // nor the last step's velocity changes and error (A1a): the next step
 	stepErrorIter         = -1; // compares with none, and the stepper takes that step's raw error
+	lastFilterIter        = -1; // and filters (A1d: the loaded run has no share of a last filter)
+	filteredShare         = std::numeric_limits<Real>::quiet_NaN();
 	const auto saved      = Omega::instance().getScene(); // the scene being saved (Engine::scene can be stale)
 	noCoefficientChangeAt = saved ? saved->iter : -1;
 }
@@ -122,7 +124,7 @@ void ViscBridgeImplicitSolver::action()
 	lap(timeEstimate);
 }
 
-// What the time stepper's estimate needs of this step (physics.md A1a–A1c): the step's error
+// What the time stepper's estimate needs of this step (physics.md A1a–A1d): the step's error
 // filtered twice by its system, and the leapfrog's offsets and the carried errors relaxed once by
 // it.  Each filter is one application of the lagged Cholesky factor (or a CG solve with another
 // preconditioner); the error's first filter, the offsets and the carried errors share one (a sweep
@@ -132,29 +134,35 @@ void ViscBridgeImplicitSolver::action()
 // and A1c carry on what it keeps (this step's solve taking one iteration does not tell: its warm
 // start hides the lag; the stiffening pair's estimate moved 4-fold when the check was skipped on
 // it, and a capillary pair whose gap closed 200-fold since the factorisation kept offsets as large
-// as its speed, an estimate 850x its true error).
+// as its speed, an estimate 850x its true error).  A1d: all of it every errorFilterInterval steps;
+// in between, the carried errors by the factor alone, the offsets wait unrelaxed, and the step's
+// error is its raw one at the share the last filter kept.
 void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
                                                  const std::vector<vb::BridgeResistance>& R, const vb::Preconditioner* pre)
 {
 	const std::vector<Body::id_t>& ids = g.ids;
 	Eigen::VectorXd                u, o, carried, fresh;
 	const bool                     compare = stepErrorChange(sys, ids, x, u);
-	const bool                     relax   = offsetsOf(ids, sys.size(), o);
+	const bool                     full    = filterIsDue(compare && !u.isZero(0));
+	const bool                     relax   = full && offsetsOf(ids, sys.size(), o);
 	const bool                     carry   = carriedErrorsOf(sys, g, x, R, carried, fresh);
+	const bool                     filterU = full && compare;
 	stepErrorCovered.assign(scene->bodies->size(), 0);
 	stepErrorSq = stepCarriedSq = 0;
 	stepErrorIter               = -1;
-	if (!compare && !relax && !carry) return;
+	if (full) lastFilterIter = scene->iter, ++estimateFilters;
 	// the columns: [u] [o] [carried fresh], filtered together with the factor
-	const long      at0 = 0, atO = at0 + long(compare), atCarried = atO + long(relax), columns = atCarried + 2 * long(carry);
+	const long      atO = long(filterU), atCarried = atO + long(relax), columns = atCarried + 2 * long(carry);
 	const bool      factor = pre && preconditionerInUse == cholesky;
 	Eigen::MatrixXd in(sys.size(), columns), out;
-	if (compare) in.col(at0) = u;
-	if (relax) in.col(atO) = o;
-	if (carry) in.col(atCarried) = carried, in.col(atCarried + 1) = fresh;
-	if (factor) sys.filterColumns(in, out, 1e-3, 100, pre, true);
-	else filteredApart(sys, in, out, atCarried, pre);
-	for (long c = atO; c < columns && factor; ++c) { // CG from the factor's answer: one product where it holds
+	if (columns > 0) {
+		if (filterU) in.col(0) = u;
+		if (relax) in.col(atO) = o;
+		if (carry) in.col(atCarried) = carried, in.col(atCarried + 1) = fresh;
+		if (factor) sys.filterColumns(in, out, 1e-3, 100, pre, true);
+		else filteredApart(sys, in, out, atCarried, pre);
+	}
+	for (long c = atO; c < columns && factor && full; ++c) { // CG from the factor's answer: one product where it holds
 		Eigen::VectorXd y = out.col(c);
 		sys.filter(in.col(c), y, 1e-2, 100, pre, false);
 		out.col(c) = y;
@@ -162,22 +170,42 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 	if (relax) storeRelaxed(ids, out.col(atO), ViscBridgeContext::of(scene).velocityOffset);
 	if (carry) storeCarried(ids, out.col(atCarried) + out.col(atCarried + 1));
 	if (!compare) return;
-	u.setZero();
-	for (size_t i = 0; i < ids.size(); ++i) // the second filter takes the translations only, as the first
-		u.segment<3>(6 * static_cast<long>(i)) = out.col(at0).segment<3>(6 * static_cast<long>(i));
-	Eigen::VectorXd filtered;
-	sys.filter(u, filtered, 1e-3, 100, pre, factor);
-	// and the step's own share of A1c apart: it is what a smaller step makes smaller (the controller's
-	// measure, A4), while the error carried from earlier steps is made
+	Real rawSq = 0;
 	for (size_t i = 0; i < ids.size(); ++i) {
 		const auto at = 6 * static_cast<long>(i);
-		stepErrorSq += sys.bodies()[i].mass * filtered.segment<3>(at).squaredNorm();
+		rawSq += sys.bodies()[i].mass * u.segment<3>(at).squaredNorm();
+		// the step's own share of A1c apart: it is what a smaller step makes smaller (the controller's
+		// measure, A4), while the error carried from earlier steps is made
 		if (carry)
 			stepCarriedSq += sys.bodies()[i].mass
 			        * std::pow(vb::persistingShare(in.col(atCarried + 1).segment<3>(at).norm(), out.col(atCarried + 1).segment<3>(at).norm()), 2);
 		stepErrorCovered[ids[i]] = 1;
 	}
 	stepErrorIter = scene->iter;
+	if (!filterU) {
+		stepErrorSq = rawSq > 0 ? filteredShare * rawSq : 0;
+		return;
+	}
+	u.setZero();
+	for (size_t i = 0; i < ids.size(); ++i) // the second filter takes the translations only, as the first
+		u.segment<3>(6 * static_cast<long>(i)) = out.col(0).segment<3>(6 * static_cast<long>(i));
+	Eigen::VectorXd filtered;
+	sys.filter(u, filtered, 1e-3, 100, pre, factor);
+	for (size_t i = 0; i < ids.size(); ++i)
+		stepErrorSq += sys.bodies()[i].mass * filtered.segment<3>(6 * static_cast<long>(i)).squaredNorm();
+	filteredShare = rawSq > 0 ? stepErrorSq / rawSq : std::numeric_limits<Real>::quiet_NaN();
+}
+
+// A1d: a filter is due every errorFilterInterval steps (the time stepper's choice), where the last
+// one's share is not known for the error this step has, and at a step whose Δt moved by more than 1 %
+// from the last one's: that makes offsets (A1b) which a stiff network relaxes at once, and which
+// would wait unrelaxed otherwise (a capillary pair's estimate, 3× its own at a constant Δt).
+bool ViscBridgeImplicitSolver::filterIsDue(bool stepErrorNow)
+{
+	const int  interval = ViscBridgeContext::of(scene).errorFilterInterval;
+	const bool dtMoved  = !(std::abs(scene->dt - lastEstimatedDt) <= 0.01 * scene->dt);
+	lastEstimatedDt     = scene->dt;
+	return interval <= 1 || lastFilterIter < 0 || scene->iter - lastFilterIter >= interval || (stepErrorNow && !std::isfinite(filteredShare)) || dtMoved;
 }
 
 // Without the factor, each column by CG: the step's error and the offsets (the columns before

@@ -2,6 +2,7 @@
 // network (physics.md §4, P15), between InteractionLoop and NewtonIntegrator.
 #pragma once
 #include <array>
+#include <limits>
 #include <core/Body.hpp>
 #include <core/GlobalEngine.hpp>
 #include "viscbridge/core/linalg/ImplicitViscousSystem.hpp"
@@ -78,6 +79,11 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	static void filteredApart(const viscbridge::ImplicitViscousSystem& sys, const Eigen::MatrixXd& in, Eigen::MatrixXd& out, long carriedFrom,
 	                          const viscbridge::Preconditioner* pre);
 	void storeCarried(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed);
+	// A1d: the filters every errorFilterInterval steps, and the share of the step's error the last one kept
+	long lastFilterIter  = -1;
+	Real filteredShare   = std::numeric_limits<Real>::quiet_NaN(); // Σ m|F²u|² / Σ m|u|²
+	Real lastEstimatedDt = 0;
+	bool filterIsDue(bool stepErrorNow);
 	static void storeRelaxed(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed, std::vector<Vector3r>& perBody);
 
 public:
@@ -150,6 +156,7 @@ public:
 		((long,totalIterations,0,Attr::readonly,"CG iterations of all solves (totalIterations/solves: iterations per step)."))
 		((long,products,0,Attr::readonly|Attr::noSave,"Matrix-free products $(M+\\Delta t D)x$ of all solves (one per iteration, one per solve for the start)."))
 		((long,solves,0,Attr::readonly,"Number of solves (steps with at least one bridge)."))
+		((long,estimateFilters,0,Attr::readonly|Attr::noSave,"Solves in which the time stepper's error estimate was filtered in full (physics.md A1d: every :yref:`ViscBridgeTimeStepper.errorFilterInterval` steps, every step while its accuracy sets dt)."))
 		((long,fallbacks,0,Attr::readonly,"Solves that needed the direct (sparse Cholesky) fallback."))
 		((int,unknowns,0,Attr::readonly,"Free velocity components in the last solve."))
 		((int,bridges,0,Attr::readonly,"Bridges in the last solve."))

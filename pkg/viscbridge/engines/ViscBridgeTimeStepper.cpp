@@ -29,6 +29,7 @@ void ViscBridgeTimeStepper::postLoad(ViscBridgeTimeStepper&)
 		viscbridge::requireInRange(name, "maxInterval", maxInterval, 1, false, 1e9, false);
 		if (accuracy != 0 && !(accuracy > 0 && accuracy < 1)) viscbridge::rejectValue(name, "accuracy", accuracy, "(0, 1), or 0 for none");
 		viscbridge::requireInRange(name, "implicitCost", implicitCost, 1, false, 1e6, false);
+		viscbridge::requireInRange(name, "errorFilterInterval", errorFilterInterval, 1, false, 1e6, false);
 	});
 	restoreSavedState();
 }
@@ -222,6 +223,9 @@ void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 	chooseScheme(sc, accuracyLimit);
 	Real dt = std::min(dtBound, accuracyStepNow);
 	if (maxDt > 0) dt = std::min(dt, maxDt);
+	// A1d: the solver filters the estimate every step while the controller holds dt or is within 4×
+	// of it (between filters, its step error follows the raw error at the last filter's share)
+	ViscBridgeContext::of(sc).errorFilterInterval = accuracy > 0 && !(accuracyStepNow >= 4 * dt) ? 1 : errorFilterInterval;
 	if (!std::isfinite(dt)) return; // nothing to bound (no dynamic spheres, no contacts): keep dt
 	if (!(dt > 0))
 		throw std::runtime_error("ViscBridgeTimeStepper: the time-step bound is " + viscbridge::formatValue(dt) + " s at body #"

@@ -29,8 +29,8 @@ class ViscBridgeTimeStepper : public TimeStepper, public SchemeChooser {
 	std::vector<size_t>           savedBridges; // bridgeKeys() of the saved scene, sorted: the bridges the state knows
 	void                          restoreSavedState();
 	bool                          resumesSavedState(Scene*);
-	AttributeRollback<Real, Real, Real, Real, Real, int, int, Real, Real> rollback;
-	auto checked() { return std::tie(safety, maxGrowth, rayleighFraction, maxDt, tolerance, maxIterations, maxInterval, accuracy, implicitCost); }
+	AttributeRollback<Real, Real, Real, Real, Real, int, int, Real, Real, int> rollback;
+	auto checked() { return std::tie(safety, maxGrowth, rayleighFraction, maxDt, tolerance, maxIterations, maxInterval, accuracy, implicitCost, errorFilterInterval); }
 	// [accuracy] ViscBridgeTimeStepperAccuracy.cpp (physics.md §7a): each body's force a step ago,
 	// the run's error sums, and the limit of the scheme not running (P14) for the choice between them
 	std::vector<Vector3r>         previousForce;
@@ -136,6 +136,7 @@ public:
 		((string,governing,"collision",Attr::readonly,"What sets dt: 'viscous-network' (a mode of the network dominated by the bridges' damping), 'collision' (one dominated by contact stiffness), 'rayleigh' (the spheres' Rayleigh bound), or 'accuracy' (the step the tolerance `accuracy` allows is below the stability limit)."))
 		((Real,accuracy,0,Attr::triggerPostLoad|Attr::noSave,"Tolerance on the run's relative error, in (0, 1); 0: none (dt from stability alone). With a tolerance, dt is also at most the step at which the last step's error estimate (stepError) would meet it (physics.md A4: first order, with a margin 0.9, shrinking at most 5× per step, growing at most maxGrowth×), so the run's error — positions against their distance travelled, as bench/accuracy_cost.py measures it — stays near the tolerance (docs/timestep.md says where this holds). governing says 'accuracy' when it sets dt."))
 		((bool,autoIntegration,false,Attr::noSave,"Choose the scheme per phase of the run (physics.md A5): switch the scheme of the viscous forces between 'explicit' and 'implicit' at full updates (the scene's scheme, read by :yref:`Law2_ScGeom_ViscBridgePhys_HertzViscous.integrationInUse`; the law's own integration is the scheme the run starts with), whichever is cheaper for the step that stability and `accuracy` allow, an implicit step costing implicitCost explicit ones (needs :yref:`ViscBridgeImplicitSolver` in O.engines: viscbridge.engines(integration='auto') sets all up). The limit of the scheme not running is its rigorous bound P14, so a switch errs on the side of staying. scheme and schemeSwitches say which ran."))
+		((int,errorFilterInterval,8,Attr::triggerPostLoad|Attr::noSave,"Steps between two full filters of the error estimate by :yref:`ViscBridgeImplicitSolver` while `accuracy` does not set dt (no tolerance, or its step at least 4× the one taken), >= 1 (physics.md A1d). In between, the carried errors are relaxed by the solver's factor alone, the leapfrog's offsets wait unrelaxed for the next filter, and a step's error is its raw one at the share the last filter kept. 1: every step, as always while `accuracy` sets dt."))
 		((Real,implicitCost,3,Attr::triggerPostLoad|Attr::noSave,"With autoIntegration: the cost of an implicit step in explicit steps, >= 1 (2–4 measured on beds of 300 spheres, 4–14 on 10³–10⁴: docs/performance.md §3)."))
 		((string,scheme,"",Attr::readonly|Attr::noSave,"The scheme of the viscous forces at the last step: 'explicit' or 'implicit'."))
 		((long,schemeSwitches,0,Attr::readonly|Attr::noSave,"Switches of the scheme made by autoIntegration."))

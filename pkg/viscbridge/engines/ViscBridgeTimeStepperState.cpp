@@ -147,6 +147,7 @@ void ViscBridgeTimeStepper::preSave(ViscBridgeTimeStepper&)
 	// the scheme autoIntegration chose (A5): the law of the loaded scene runs it from its first step,
 	// before the stepper (older scenes end here; their law's integration held the choice)
 	savedState.push_back(Real(chosenScheme));
+	savedState.push_back(Real(errorFilterInterval)); // A1d (older scenes end here: the default)
 }
 
 void ViscBridgeTimeStepper::reset()
@@ -234,6 +235,7 @@ void ViscBridgeTimeStepper::restoreSavedState()
 			resumeForces();
 			if (r.at < savedState.size()) r.unpack(resumedErrors);
 			if (r.at < savedState.size()) chosenScheme = static_cast<int>(r.next());
+			if (r.at < savedState.size()) errorFilterInterval = std::max(1, static_cast<int>(r.next())), rollback.keep(checked());
 		}
 	}
 	savedState.clear();

@@ -75,6 +75,9 @@ public:
 	// the time stepper carries a damped body's step error the same way, at its bridges' live rate
 	// (NaN: not started).
 	std::vector<Vector3r> velocityError, positionError;
+	// [accuracy] Steps between the implicit solver's full filters of the estimate (physics.md A1d),
+	// set by the time stepper each step: 1 while its accuracy controller holds Δt.
+	int errorFilterInterval = 1;
 	// An offset relaxed step after step decays towards subnormal numbers, which slow every sweep of
 	// the factor that relaxes it ~10× (measured: 4 applications' time on the settling bench); far
 	// below any velocity a run resolves, it is none.
