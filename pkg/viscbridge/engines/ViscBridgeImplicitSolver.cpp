@@ -168,7 +168,12 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 		out.col(c) = y;
 	}
 	if (relax) storeRelaxed(ids, out.col(atO), ViscBridgeContext::of(scene).velocityOffset);
-	if (carry) storeCarried(ids, out.col(atCarried) + out.col(atCarried + 1));
+	if (carry) {
+		Eigen::VectorXd relaxed = out.col(atCarried) + out.col(atCarried + 1);
+		if (factor && !full) // between filters their sum alone is checked: a factor of a stiffer network over-relaxes it
+			sys.filter(in.col(atCarried) + in.col(atCarried + 1), relaxed, 1e-2, 100, pre, false);
+		storeCarried(ids, relaxed);
+	}
 	if (!compare) return;
 	Real rawSq = 0;
 	for (size_t i = 0; i < ids.size(); ++i) {
