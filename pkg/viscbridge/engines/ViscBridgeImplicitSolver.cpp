@@ -135,8 +135,8 @@ void ViscBridgeImplicitSolver::action()
 // start hides the lag; the stiffening pair's estimate moved 4-fold when the check was skipped on
 // it, and a capillary pair whose gap closed 200-fold since the factorisation kept offsets as large
 // as its speed, an estimate 850x its true error).  A1d: all of it every errorFilterInterval steps;
-// in between, the carried errors by the factor alone, the offsets wait unrelaxed, and the step's
-// error is its raw one at the share the last filter kept.
+// in between, the carried errors relaxed (their sum checked), the offsets wait unrelaxed, and the
+// step's error is its raw one at the share the last filter kept.
 void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
                                                  const std::vector<vb::BridgeResistance>& R, const vb::Preconditioner* pre)
 {
