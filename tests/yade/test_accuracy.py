@@ -88,8 +88,8 @@ def settling_estimate(interval, steps=1500, **kw):
 def test_between_filters_the_estimate_stays_near_the_every_step_one():
     """A1d: filtered in full every 8th step (Δt is the collision limit here, constant), the estimate
     costs an eighth of the filters and stays within 0.8–2× the one filtered every step (what waits
-    between filters is relaxed later, not less; A1a's share of the last filter is an
-    approximation either way)."""
+    between filters is relaxed by the factor alone; A1a's second filter at the last full
+    filter's share is an approximation either way)."""
     every, filters1, solves1 = settling_estimate(1)
     eighth, filters8, solves8 = settling_estimate(8)
     assert solves1 > 500 and filters1 == solves1, (filters1, solves1)

@@ -135,8 +135,8 @@ void ViscBridgeImplicitSolver::action()
 // start hides the lag; the stiffening pair's estimate moved 4-fold when the check was skipped on
 // it, and a capillary pair whose gap closed 200-fold since the factorisation kept offsets as large
 // as its speed, an estimate 850x its true error).  A1d: all of it every errorFilterInterval steps;
-// in between, the offsets and the carried errors are relaxed by the factor (the carried errors'
-// sum checked), and the step's error is its raw one at the share the last filter kept.
+// in between, the factor alone relaxes the offsets and the carried errors (their sum checked) and
+// filters the step's error once, the second filter taken at the share the last full one kept.
 void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
                                                  const std::vector<vb::BridgeResistance>& R, const vb::Preconditioner* pre)
 {
@@ -146,17 +146,16 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 	const bool                     full    = filterIsDue(compare && !u.isZero(0));
 	const bool                     relax   = offsetsOf(ids, sys.size(), o);
 	const bool                     carry   = carriedErrorsOf(sys, g, x, R, carried, fresh);
-	const bool                     filterU = full && compare;
 	stepErrorCovered.assign(scene->bodies->size(), 0);
 	stepErrorSq = stepCarriedSq = 0;
 	stepErrorIter               = -1;
 	if (full) lastFilterIter = scene->iter, ++estimateFilters;
 	// the columns: [u] [o] [carried fresh], filtered together with the factor
-	const long      atO = long(filterU), atCarried = atO + long(relax), columns = atCarried + 2 * long(carry);
+	const long      atO = long(compare), atCarried = atO + long(relax), columns = atCarried + 2 * long(carry);
 	const bool      factor = pre && preconditionerInUse == cholesky;
 	Eigen::MatrixXd in(sys.size(), columns), out;
 	if (columns > 0) {
-		if (filterU) in.col(0) = u;
+		if (compare) in.col(0) = u;
 		if (relax) in.col(atO) = o;
 		if (carry) in.col(atCarried) = carried, in.col(atCarried + 1) = fresh;
 		if (factor) sys.filterColumns(in, out, 1e-3, 100, pre, true);
@@ -175,10 +174,10 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 		storeCarried(ids, relaxed);
 	}
 	if (!compare) return;
-	Real rawSq = 0;
+	Real onceSq = 0; // Σ m|Fu|²
 	for (size_t i = 0; i < ids.size(); ++i) {
 		const auto at = 6 * static_cast<long>(i);
-		rawSq += sys.bodies()[i].mass * u.segment<3>(at).squaredNorm();
+		onceSq += sys.bodies()[i].mass * out.col(0).segment<3>(at).squaredNorm();
 		// the step's own share of A1c apart: it is what a smaller step makes smaller (the controller's
 		// measure, A4), while the error carried from earlier steps is made
 		if (carry)
@@ -187,8 +186,8 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 		stepErrorCovered[ids[i]] = 1;
 	}
 	stepErrorIter = scene->iter;
-	if (!filterU) {
-		stepErrorSq = rawSq > 0 ? filteredShare * rawSq : 0;
+	if (!full) {
+		stepErrorSq = onceSq > 0 ? filteredShare * onceSq : 0;
 		return;
 	}
 	u.setZero();
@@ -198,7 +197,7 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 	sys.filter(u, filtered, 1e-3, 100, pre, factor);
 	for (size_t i = 0; i < ids.size(); ++i)
 		stepErrorSq += sys.bodies()[i].mass * filtered.segment<3>(6 * static_cast<long>(i)).squaredNorm();
-	filteredShare = rawSq > 0 ? stepErrorSq / rawSq : std::numeric_limits<Real>::quiet_NaN();
+	filteredShare = onceSq > 0 ? stepErrorSq / onceSq : std::numeric_limits<Real>::quiet_NaN();
 }
 
 // A1d: a filter is due every errorFilterInterval steps (the time stepper's choice), where the last

@@ -81,7 +81,7 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	void storeCarried(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed);
 	// A1d: the filters every errorFilterInterval steps, and the share of the step's error the last one kept
 	long lastFilterIter  = -1;
-	Real filteredShare   = std::numeric_limits<Real>::quiet_NaN(); // Σ m|F²u|² / Σ m|u|²
+	Real filteredShare   = std::numeric_limits<Real>::quiet_NaN(); // Σ m|F²u|² / Σ m|Fu|²
 	Real lastEstimatedDt = 0;
 	bool filterIsDue(bool stepErrorNow);
 	static void storeRelaxed(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed, std::vector<Vector3r>& perBody);
