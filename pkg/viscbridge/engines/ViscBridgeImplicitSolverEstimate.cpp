@@ -1,0 +1,257 @@
+// ViscBridgeImplicitSolver: what the time stepper's error estimate needs of a step (physics.md
+// A1a-A1d): the step's error filtered, the offsets and carried errors relaxed by the step's system.
+#include "viscbridge/engines/ViscBridgeImplicitSolverGathered.hpp"
+#include "viscbridge/core/timestep/AccuracyControl.hpp"
+#include "viscbridge/distributed/Distributed.hpp"
+#include "viscbridge/yade/ViscBridgeContext.hpp"
+#include "viscbridge/yade/ViscBridgePhys.hpp"
+#include <core/Scene.hpp>
+#include <pkg/dem/ScGeom.hpp>
+#include <limits>
+
+namespace yade {
+
+using namespace implicit_solver;
+
+// What the time stepper's estimate needs of this step (physics.md A1a–A1d): the step's error
+// filtered twice by its system, and the leapfrog's offsets and the carried errors relaxed once by
+// it.  Each filter is one application of the lagged Cholesky factor (or a CG solve with another
+// preconditioner); the error's first filter, the offsets and the carried errors share one (a sweep
+// over a large factor is memory-bound: four columns cost little more than one).  The offsets and
+// the carried errors are checked by one product each and refined by CG where the factor lags this
+// step's matrix: a lagged factor would not relax what the bridges' new coefficients relax, and A1b
+// and A1c carry on what it keeps (this step's solve taking one iteration does not tell: its warm
+// start hides the lag; the stiffening pair's estimate moved 4-fold when the check was skipped on
+// it, and a capillary pair whose gap closed 200-fold since the factorisation kept offsets as large
+// as its speed, an estimate 850x its true error).  A1d: all of it every errorFilterInterval steps;
+// in between, the factor alone relaxes the offsets and the carried errors (their sum checked) and
+// filters the step's error once, the second filter taken at the share the last full one kept.
+void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
+                                                 const std::vector<vb::BridgeResistance>& R, const vb::Preconditioner* pre)
+{
+	const std::vector<Body::id_t>& ids = g.ids;
+	Eigen::VectorXd                u, o, carried, fresh;
+	const bool                     compare = stepErrorChange(sys, ids, x, u);
+	const bool                     full    = filterIsDue(compare && !u.isZero(0));
+	const bool                     relax   = offsetsOf(ids, sys.size(), o);
+	const bool                     carry   = carriedErrorsOf(sys, g, x, R, carried, fresh);
+	stepErrorCovered.assign(scene->bodies->size(), 0);
+	stepErrorSq = stepCarriedSq = 0;
+	stepErrorIter               = -1;
+	if (full) lastFilterIter = scene->iter, ++estimateFilters;
+	// the columns: [u] [o] [carried fresh], filtered together with the factor
+	const long      atO = long(compare), atCarried = atO + long(relax), columns = atCarried + 2 * long(carry);
+	const bool      factor = pre && preconditionerInUse == cholesky;
+	Eigen::MatrixXd in(sys.size(), columns), out;
+	if (columns > 0) {
+		if (compare) in.col(0) = u;
+		if (relax) in.col(atO) = o;
+		if (carry) in.col(atCarried) = carried, in.col(atCarried + 1) = fresh;
+		if (factor) sys.filterColumns(in, out, 1e-3, 100, pre, true);
+		else filteredApart(sys, in, out, atCarried, pre);
+	}
+	for (long c = atO; c < columns && factor && full; ++c) { // CG from the factor's answer: one product where it holds
+		Eigen::VectorXd y = out.col(c);
+		sys.filter(in.col(c), y, 1e-2, 100, pre, false);
+		out.col(c) = y;
+	}
+	if (relax) storeRelaxed(ids, out.col(atO), ViscBridgeContext::of(scene).velocityOffset);
+	if (carry) {
+		Eigen::VectorXd relaxed = out.col(atCarried) + out.col(atCarried + 1);
+		if (factor && !full) // between filters their sum alone is checked: a factor of a stiffer network over-relaxes it
+			sys.filter(in.col(atCarried) + in.col(atCarried + 1), relaxed, 1e-2, 100, pre, false);
+		storeCarried(ids, relaxed);
+	}
+	if (!compare) return;
+	Real onceSq = 0; // Σ m|Fu|²
+	for (size_t i = 0; i < ids.size(); ++i) {
+		const auto at = 6 * static_cast<long>(i);
+		onceSq += sys.bodies()[i].mass * out.col(0).segment<3>(at).squaredNorm();
+		// the step's own share of A1c apart: it is what a smaller step makes smaller (the controller's
+		// measure, A4), while the error carried from earlier steps is made
+		if (carry)
+			stepCarriedSq += sys.bodies()[i].mass
+			        * std::pow(vb::persistingShare(in.col(atCarried + 1).segment<3>(at).norm(), out.col(atCarried + 1).segment<3>(at).norm()), 2);
+		stepErrorCovered[ids[i]] = 1;
+	}
+	stepErrorIter = scene->iter;
+	if (!full) {
+		stepErrorSq = onceSq > 0 ? filteredShare * onceSq : 0;
+		return;
+	}
+	u.setZero();
+	for (size_t i = 0; i < ids.size(); ++i) // the second filter takes the translations only, as the first
+		u.segment<3>(6 * static_cast<long>(i)) = out.col(0).segment<3>(6 * static_cast<long>(i));
+	Eigen::VectorXd filtered;
+	sys.filter(u, filtered, 1e-3, 100, pre, factor);
+	for (size_t i = 0; i < ids.size(); ++i)
+		stepErrorSq += sys.bodies()[i].mass * filtered.segment<3>(6 * static_cast<long>(i)).squaredNorm();
+	filteredShare = onceSq > 0 ? stepErrorSq / onceSq : std::numeric_limits<Real>::quiet_NaN();
+}
+
+// A1d: a filter is due every errorFilterInterval steps (the time stepper's choice), where the last
+// one's share is not known for the error this step has, and at a step whose Δt moved by more than 1 %
+// from the last one's: the offsets (A1b) it makes need this step's matrix, not only the lagged
+// factor (a capillary pair whose Δt grew, test_accuracy: 3× its estimate at a constant Δt).
+bool ViscBridgeImplicitSolver::filterIsDue(bool stepErrorNow)
+{
+	const int  interval = ViscBridgeContext::of(scene).errorFilterInterval;
+	const bool dtMoved  = !(std::abs(scene->dt - lastEstimatedDt) <= 0.01 * scene->dt);
+	lastEstimatedDt     = scene->dt;
+	return interval <= 1 || lastFilterIter < 0 || scene->iter - lastFilterIter >= interval || (stepErrorNow && !std::isfinite(filteredShare)) || dtMoved;
+}
+
+// Without the factor, each column by CG: the step's error and the offsets (the columns before
+// `carriedFrom`) to 10⁻³, the carried errors to 10⁻² (an estimate of what an error does next).
+void ViscBridgeImplicitSolver::filteredApart(const vb::ImplicitViscousSystem& sys, const Eigen::MatrixXd& in, Eigen::MatrixXd& out, long carriedFrom,
+                                             const vb::Preconditioner* pre)
+{
+	out.resize(in.rows(), in.cols());
+	Eigen::MatrixXd part;
+	sys.filterColumns(in.leftCols(carriedFrom), part, 1e-3, 100, pre, false);
+	out.leftCols(carriedFrom) = part;
+	sys.filterColumns(in.rightCols(in.cols() - carriedFrom), part, 1e-2, 100, pre, false);
+	out.rightCols(in.cols() - carriedFrom) = part;
+}
+
+// A1c: the scheme holds each bridge's coefficients over a step in which they change (a gap that
+// closes stiffens its bridge, P4): against the trapezoidal companion the step gives the bodies
+// ½Δt (D_{n+1} − D_n) v too much impulse — with the slope of the last change, (Δt_n/Δt_{n−1})(D_n −
+// D_{n−1}).  Unlike A1a's error it is not a transient the relaxation absorbs: what (M + Δt D)⁻¹ does
+// not give the velocity it gives the position, the body relaxing to a shifted place.  So it is
+// carried, with the position error ξ it makes: a gap wrong by δS = n·(ξ₂ − ξ₁) gives the bridge the
+// normal coefficient of that gap, C^n + (ΔC^n/ΔS) δS by the last change over the gap change ΔS (a
+// bridge that keeps stiffening shrinks the error in proportion: R1's w₀ − A ln(S₀/S)).  Per body
+// `carried` = ε + (the wrong gap's impulse)/m and `fresh` = (this step's trapezoidal impulse)/m, which
+// the caller relaxes through the system with the offsets, ε_{n+1} = (M + Δt D)⁻¹ M (carried + fresh),
+// then ξ_{n+1} = ξ_n + Δt ε_{n+1}.  A bridge formed since the last step is a jump of the model (A1),
+// not a change.  False if nothing is carried.  [MPI] not over ranks, as the offsets.
+bool ViscBridgeImplicitSolver::carriedErrorsOf(const vb::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
+                                               const std::vector<vb::BridgeResistance>& R, Eigen::VectorXd& carried, Eigen::VectorXd& fresh)
+{
+	auto&          context = ViscBridgeContext::of(scene);
+	const long     m = static_cast<long>(sys.bridges().size()), n = static_cast<long>(g.ids.size());
+	const Real     dt        = scene->dt;
+	const Vector3r unstarted = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
+	carried.setZero(static_cast<long>(sys.size()));
+	fresh.setZero(static_cast<long>(sys.size()));
+	context.velocityError.resize(scene->bodies->size(), unstarted);
+	context.positionError.resize(scene->bodies->size(), unstarted);
+	if (distributed::active(scene)) return false;
+	for (const Body::id_t id : g.ids)
+		if (!context.velocityError[id].allFinite() || !context.positionError[id].allFinite())
+			context.velocityError[id] = context.positionError[id] = Vector3r::Zero();
+	const vb::BridgeResistance        none { Vector3r::Zero(), Vector3r::Zero(), Vector3r::Zero(), Vector3r::Zero() };
+	std::vector<vb::BridgeResistance> step(static_cast<size_t>(m), none), wrongGap(static_cast<size_t>(m), none);
+	const auto scaled = [](const vb::BridgeResistance& a, const vb::BridgeResistance& b, Real w) {
+		return vb::BridgeResistance { w * (a.force1 - b.force1), w * (a.torque1 - b.torque1), w * (a.force2 - b.force2), w * (a.torque2 - b.torque2) };
+	};
+	bool any = false;
+#pragma omp parallel for schedule(static) reduction(|| : any)
+	for (long k = 0; k < m; ++k) {
+		const vb::SystemBridge& c   = sys.bridges()[k];
+		ViscBridgePhys&         ph  = *g.owners[k];
+		const Real              gap = -static_cast<const ScGeom&>(*g.described[k]->geom).penetrationDepth;
+		if (ph.solvedIter == scene->iter - 1 && ph.solvedDt > 0 && scene->iter != noCoefficientChangeAt) {
+			const vb::BridgeResistance before = vb::bridgeResistance(ph.solvedBlock, x.segment<3>(6 * c.body1), x.segment<3>(6 * c.body1 + 3),
+			                                                          x.segment<3>(6 * c.body2), x.segment<3>(6 * c.body2 + 3), c.shiftVel);
+			const Real gapChange = gap - ph.solvedGap;
+			const Real gapError  = c.block.n.dot(context.positionError[g.ids[c.body2]] - context.positionError[g.ids[c.body1]]);
+			step[k]              = scaled(R[k], before, 0.5 * dt * dt / ph.solvedDt); // the trapezoid's share
+			// what the wrong gap changes: the normal coefficient's slope over the last change (none from a
+			// gap that barely moved: a slope of round-off), on the normal motion it resists
+			if (std::abs(gapChange) > 1e-6 * std::abs(gap)) {
+				const Vector3r dv = x.segment<3>(6 * c.body1) - x.segment<3>(6 * c.body2) - c.shiftVel;
+				const Vector3r f  = -dt * (c.block.cn - ph.solvedBlock.cn) / gapChange * gapError * c.block.n.dot(dv) * c.block.n;
+				wrongGap[k]       = { f, Vector3r::Zero(), Vector3r(-f), Vector3r::Zero() };
+			}
+			any = true;
+		}
+		ph.solvedBlock = c.block, ph.solvedIter = scene->iter, ph.solvedDt = dt, ph.solvedGap = gap;
+	}
+#pragma omp parallel for schedule(static) reduction(|| : any)
+	for (long i = 0; i < n; ++i) {
+		const Vector3r& was = context.velocityError[g.ids[i]];
+		if (!(sys.bodies()[i].mass > 0)) continue; // a wall or a fixed body: no velocity to be wrong
+		Vector3r        f, t;
+		sys.resultantOn(i, wrongGap, f, t); // in the order of the body's bridges: the same sum on any number of threads
+		carried.segment<3>(6 * i) = was + f / sys.bodies()[i].mass;
+		sys.resultantOn(i, step, f, t);
+		fresh.segment<3>(6 * i) = f / sys.bodies()[i].mass;
+		any                     = any || !was.isZero(0);
+	}
+	return any;
+}
+
+// A1b: the offsets of the bodies this step holds, in the system's layout (translations); false if
+// none has one.  [MPI] not over ranks: there the offsets stay as they are (larger).
+bool ViscBridgeImplicitSolver::offsetsOf(const std::vector<Body::id_t>& ids, size_t size, Eigen::VectorXd& o)
+{
+	const auto& offset = ViscBridgeContext::of(scene).velocityOffset;
+	o.setZero(static_cast<long>(size));
+	if (distributed::active(scene)) return false;
+	bool any = false;
+	for (size_t i = 0; i < ids.size(); ++i)
+		if (static_cast<size_t>(ids[i]) < offset.size() && offset[ids[i]].allFinite())
+			o.segment<3>(6 * static_cast<long>(i)) = offset[ids[i]], any = true;
+	return any;
+}
+
+// A1c: the carried velocity errors relaxed by the step, and the positions they move.
+void ViscBridgeImplicitSolver::storeCarried(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed)
+{
+	auto& context = ViscBridgeContext::of(scene);
+	storeRelaxed(ids, relaxed, context.velocityError);
+	for (const Body::id_t id : ids)
+		context.positionError[id] = ViscBridgeContext::relaxedOffset(context.positionError[id] + scene->dt * context.velocityError[id]);
+}
+
+// A1b, A1c: the offsets and the carried errors relax through the bridges as a velocity does,
+// (M + Δt D)⁻¹M o: what a cluster moving as one carries stays, a relative part decays.
+void ViscBridgeImplicitSolver::storeRelaxed(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed, std::vector<Vector3r>& perBody)
+{
+	for (size_t i = 0; i < ids.size(); ++i)
+		if (static_cast<size_t>(ids[i]) < perBody.size() && perBody[ids[i]].allFinite())
+			perBody[ids[i]] = ViscBridgeContext::relaxedOffset(relaxed.segment<3>(6 * static_cast<long>(i)));
+}
+
+// A1a: the error of this step against its trapezoidal companion is ½Δt_n times the change of the
+// mean acceleration, ½Δt_n(Δv_n/Δt_n − Δv_{n−1}/Δt_{n−1}) (per body: a force that changes over the
+// step, the viscous one included) — per unit time, so that the controller's change of Δt, which
+// changes Δv with it, is not taken for an error.  Backward Euler follows that only as far as
+// (M + Δt D)⁻¹ M lets it: filtered twice by this step's matrix — the filtered estimate of stiff
+// solvers, which scales like the true error both where Δt·C/m is small (z²/2) and large (1/z), so
+// that the stiff relaxations of the network do not count as errors while its soft, collective
+// motions do.  With the Cholesky factor, which the refresh rule keeps within a few CG iterations of
+// exact, each filter is one application of it (an estimate needs no more: bench/accuracy_target.py
+// keeps its calibration); otherwise CG with this step's preconditioner to a loose tolerance.
+bool ViscBridgeImplicitSolver::stepErrorChange(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+                                               Eigen::VectorXd& u)
+{
+	const size_t          n     = scene->bodies->size();
+	static const Vector3r none   = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()); // not solved in that step
+	static const Vector3r jumped = Vector3r::Constant(std::numeric_limits<Real>::infinity());  // a jump of the model
+	const bool            valid  = previousChange.size() == n && previousChangeIter == scene->iter - 1 && !distributed::active(scene);
+	const Real            dt    = scene->dt;
+	stepChange.assign(n, none);
+	u.setZero(static_cast<long>(sys.size()));
+	for (size_t i = 0; i < ids.size(); ++i) {
+		stepChange[ids[i]]  = (x.segment<3>(6 * static_cast<long>(i)) - sys.bodies()[i].vel) / dt;
+		const Vector3r& was = valid ? previousChange[ids[i]] : none;
+		if (was.allFinite()) u.segment<3>(6 * static_cast<long>(i)) = 0.5 * dt * (stepChange[ids[i]] - was);
+		else if (!std::isinf(was[0])) stepChange[ids[i]] = jumped; // its first solved step (below)
+	}
+	// a bridge that formed this step, or a body solved for the first time (its bridges formed under
+	// the explicit scheme, or the scheme just switched), changed the model at once: the body's change
+	// of velocity in this step is the model's jump, not one the next step's trapezoidal companion
+	// should compare to (the stepper's raw estimate skips a formation step the same way, A1)
+	for (const BridgeEvent& e : ViscBridgeContext::of(scene).events(scene->iter))
+		if (e.kind == BridgeEvent::Kind::formed)
+			for (Body::id_t id : { e.id1, e.id2 })
+				if (static_cast<size_t>(id) < n) stepChange[id] = jumped;
+	previousChange.swap(stepChange);
+	previousChangeIter = scene->iter;
+	return valid;
+}
+
+} // namespace yade
