@@ -15,7 +15,11 @@ TEST(AccuracyControl, RunErrorIsTheRelativeErrorOfItsSteps)
 	// every step off by 1 % of its velocity: positions off by 1 % of the distance travelled, and the
 	// kinetic energy by 2 %
 	AccuracyEstimate e;
-	for (int n = 0; n < 100; ++n) e.record(StepMotion { 1e-6 * (1 + n % 3), 0.1 + 0.001 * n, 0.001 + 1e-5 * n });
+	for (int n = 0; n < 100; ++n) {
+		StepMotion m { 1e-6 * (1 + n % 3), 0.1 + 0.001 * n, 0.001 + 1e-5 * n };
+		m.historyVelocity = m.velocityError; // the kinetic energy sees the same error (no implicit history, A1e)
+		e.record(m);
+	}
 	EXPECT_NEAR(e.runError(), 0.02, 1e-12);
 	EXPECT_NEAR(e.stepError(), 0.02, 1e-12);
 }

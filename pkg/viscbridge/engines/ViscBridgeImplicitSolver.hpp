@@ -65,8 +65,9 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	long                  stepErrorIter = -1;
 	Real                  stepErrorSq = 0, stepCarriedSq = 0;
 	std::vector<char>     stepErrorCovered;
-	std::vector<Vector3r> previousChange; // per body id: (v_{n+1/2} − v_{n−1/2})/Δt of the last solve (NaN: not solved; ∞: a jump of the model)
+	std::vector<Vector3r> previousChange; // per body id: (v_{n+1/2} − v_{n−1/2})/Δt of the last solve (NaN: not solved)
 	std::vector<Vector3r> stepChange;     // workspace: the same for this solve
+	std::vector<char>     previousJumped, stepJumped; // per body id: that change was a jump of the model (A1)
 	long                  previousChangeIter = -1;
 	long                  noCoefficientChangeAt = -1; // the step after a save (A1c)
 	void estimateStepError(const viscbridge::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
@@ -74,8 +75,13 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	bool carriedErrorsOf(const viscbridge::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
 	                     const std::vector<viscbridge::BridgeResistance>& R, Eigen::VectorXd& carried, Eigen::VectorXd& fresh); // false: nothing carried
 	bool stepErrorChange(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
-	                     Eigen::VectorXd& u); // false: nothing to compare with
+	                     Eigen::VectorXd& u, Eigen::VectorXd& uHistory); // false: nothing to compare with
+	void jumpStepError(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+	                   const std::vector<char>& jumped, Eigen::VectorXd& uHistory) const;
+	std::vector<char> jumpedBodies(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, bool valid) const;
 	bool offsetsOf(const std::vector<Body::id_t>& ids, size_t size, Eigen::VectorXd& o);
+	bool historyOf(const std::vector<Body::id_t>& ids, size_t size, Eigen::VectorXd& h);
+	void storeHistory(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed, const Eigen::VectorXd& once);
 	static void filteredApart(const viscbridge::ImplicitViscousSystem& sys, const Eigen::MatrixXd& in, Eigen::MatrixXd& out, long carriedFrom,
 	                          const viscbridge::Preconditioner* pre);
 	void storeCarried(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed);

@@ -7,7 +7,9 @@
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include <core/Scene.hpp>
 #include <pkg/dem/ScGeom.hpp>
+#include <algorithm>
 #include <limits>
+#include <numeric>
 
 namespace yade {
 
@@ -30,22 +32,26 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
                                                  const std::vector<vb::BridgeResistance>& R, const vb::Preconditioner* pre)
 {
 	const std::vector<Body::id_t>& ids = g.ids;
-	Eigen::VectorXd                u, o, carried, fresh;
-	const bool                     compare = stepErrorChange(sys, ids, x, u);
+	Eigen::VectorXd                u, uHistory, o, h, carried, fresh;
+	const bool                     compare = stepErrorChange(sys, ids, x, u, uHistory);
+	const bool                     apart   = !distributed::active(scene) && (!compare || uHistory != u); // A1e's own column
 	const bool                     full    = filterIsDue(compare && !u.isZero(0));
 	const bool                     relax   = offsetsOf(ids, sys.size(), o);
+	const bool                     history = historyOf(ids, sys.size(), h);
 	const bool                     carry   = carriedErrorsOf(sys, g, x, R, carried, fresh);
 	stepErrorCovered.assign(scene->bodies->size(), 0);
 	stepErrorSq = stepCarriedSq = 0;
 	stepErrorIter               = -1;
 	if (full) lastFilterIter = scene->iter, ++estimateFilters;
-	// the columns: [u] [o] [carried fresh], filtered together with the factor
-	const long      atO = long(compare), atCarried = atO + long(relax), columns = atCarried + 2 * long(carry);
+	// the columns: [u] [uHistory] [o] [h] [carried fresh], filtered together with the factor
+	const long atO = long(compare) + long(apart), atH = atO + long(relax), atCarried = atH + long(history), columns = atCarried + 2 * long(carry);
 	const bool      factor = pre && preconditionerInUse == cholesky;
 	Eigen::MatrixXd in(sys.size(), columns), out;
 	if (columns > 0) {
 		if (compare) in.col(0) = u;
+		if (apart) in.col(atO - 1) = uHistory;
 		if (relax) in.col(atO) = o;
+		if (history) in.col(atH) = h;
 		if (carry) in.col(atCarried) = carried, in.col(atCarried + 1) = fresh;
 		if (factor) sys.filterColumns(in, out, 1e-3, 100, pre, true);
 		else filteredApart(sys, in, out, atCarried, pre);
@@ -56,6 +62,10 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 		out.col(c) = y;
 	}
 	if (relax) storeRelaxed(ids, out.col(atO), ViscBridgeContext::of(scene).velocityOffset);
+	if (!distributed::active(scene)) {
+		const Eigen::VectorXd once = out.col(apart ? atO - 1 : 0);
+		storeHistory(ids, history ? Eigen::VectorXd(out.col(atH)) : h, once);
+	}
 	if (carry) {
 		Eigen::VectorXd relaxed = out.col(atCarried) + out.col(atCarried + 1);
 		if (factor && !full) // between filters their sum alone is checked: a factor of a stiffer network over-relaxes it
@@ -197,6 +207,42 @@ bool ViscBridgeImplicitSolver::offsetsOf(const std::vector<Body::id_t>& ids, siz
 	return any;
 }
 
+// A1e: the history's error and the last step's once-filtered error it takes in, in the system's
+// layout (translations), ε_h + F u_{n−1}: relaxed by this step, Fε_h + F²u_{n−1} (A1a's error of the
+// last step, one step late); false if none has one.  [MPI] not over ranks, as the offsets.
+bool ViscBridgeImplicitSolver::historyOf(const std::vector<Body::id_t>& ids, size_t size, Eigen::VectorXd& h)
+{
+	const auto& context = ViscBridgeContext::of(scene);
+	h.setZero(static_cast<long>(size));
+	if (distributed::active(scene)) return false;
+	bool       any   = false;
+	const auto entry = [](const std::vector<Vector3r>& v, Body::id_t id) {
+		return static_cast<size_t>(id) < v.size() && v[id].allFinite() ? v[id] : Vector3r::Zero();
+	};
+	for (size_t i = 0; i < ids.size(); ++i) {
+		const Vector3r e = entry(context.historyError, ids[i]) + entry(context.historyFresh, ids[i]);
+		if (!e.isZero(0)) h.segment<3>(6 * static_cast<long>(i)) = e, any = true;
+	}
+	return any;
+}
+
+// A1e: the relaxed history error of this step's bodies, and the error this step filtered once (the
+// first column of `filtered`; none where the step was not compared: a jump of the model).
+void ViscBridgeImplicitSolver::storeHistory(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed, const Eigen::VectorXd& once)
+{
+	auto&          context = ViscBridgeContext::of(scene);
+	const size_t   n       = scene->bodies->size();
+	const Vector3r unstarted = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
+	std::vector<Vector3r> relaxedNow(n, unstarted); // a body that leaves the system leaves its history (it rejoins at a jump)
+	context.historyFresh.assign(n, unstarted);
+	for (size_t i = 0; i < ids.size(); ++i) {
+		const auto at = 6 * static_cast<long>(i);
+		relaxedNow[ids[i]]           = ViscBridgeContext::relaxedOffset(relaxed.segment<3>(at));
+		context.historyFresh[ids[i]] = once.segment<3>(at);
+	}
+	context.historyError.swap(relaxedNow);
+}
+
 // A1c: the carried velocity errors relaxed by the step, and the positions they move.
 void ViscBridgeImplicitSolver::storeCarried(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed)
 {
@@ -226,32 +272,83 @@ void ViscBridgeImplicitSolver::storeRelaxed(const std::vector<Body::id_t>& ids, 
 // exact, each filter is one application of it (an estimate needs no more: bench/accuracy_target.py
 // keeps its calibration); otherwise CG with this step's preconditioner to a loose tolerance.
 bool ViscBridgeImplicitSolver::stepErrorChange(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
-                                               Eigen::VectorXd& u)
+                                               Eigen::VectorXd& u, Eigen::VectorXd& uHistory)
 {
 	const size_t          n     = scene->bodies->size();
-	static const Vector3r none   = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()); // not solved in that step
-	static const Vector3r jumped = Vector3r::Constant(std::numeric_limits<Real>::infinity());  // a jump of the model
-	const bool            valid  = previousChange.size() == n && previousChangeIter == scene->iter - 1 && !distributed::active(scene);
+	static const Vector3r none  = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()); // not solved in that step
+	const bool            valid = previousChange.size() == n && previousJumped.size() == n && previousChangeIter == scene->iter - 1 && !distributed::active(scene);
 	const Real            dt    = scene->dt;
+	const std::vector<char> jumped = jumpedBodies(sys, ids, valid);
 	stepChange.assign(n, none);
+	stepJumped.assign(n, 0);
+	previousJumped.resize(n, 0);
 	u.setZero(static_cast<long>(sys.size()));
 	for (size_t i = 0; i < ids.size(); ++i) {
-		stepChange[ids[i]]  = (x.segment<3>(6 * static_cast<long>(i)) - sys.bodies()[i].vel) / dt;
-		const Vector3r& was = valid ? previousChange[ids[i]] : none;
-		if (was.allFinite()) u.segment<3>(6 * static_cast<long>(i)) = 0.5 * dt * (stepChange[ids[i]] - was);
-		else if (!std::isinf(was[0])) stepChange[ids[i]] = jumped; // its first solved step (below)
+		const Body::id_t id = ids[i];
+		stepChange[id]      = (x.segment<3>(6 * static_cast<long>(i)) - sys.bodies()[i].vel) / dt;
+		stepJumped[id]      = jumped[i];
+		if (!jumped[i] && !previousJumped[id]) u.segment<3>(6 * static_cast<long>(i)) = 0.5 * dt * (stepChange[id] - previousChange[id]);
 	}
-	// a bridge that formed this step, or a body solved for the first time (its bridges formed under
-	// the explicit scheme, or the scheme just switched), changed the model at once: the body's change
-	// of velocity in this step is the model's jump, not one the next step's trapezoidal companion
-	// should compare to (the stepper's raw estimate skips a formation step the same way, A1)
-	for (const BridgeEvent& e : ViscBridgeContext::of(scene).events(scene->iter))
-		if (e.kind == BridgeEvent::Kind::formed)
-			for (Body::id_t id : { e.id1, e.id2 })
-				if (static_cast<size_t>(id) < n) stepChange[id] = jumped;
+	uHistory = u;
+	if (std::find(jumped.begin(), jumped.end(), 1) != jumped.end() || !valid || std::any_of(ids.begin(), ids.end(), [&](Body::id_t id) { return previousJumped[id]; }))
+		jumpStepError(sys, ids, x, jumped, uHistory);
 	previousChange.swap(stepChange);
+	previousJumped.swap(stepJumped);
 	previousChangeIter = scene->iter;
 	return valid;
+}
+
+// A1e: where a step is a jump of the model, or follows one, the two steps' changes tell nothing of
+// its error; the step's own does: against its trapezoidal companion the scheme gives the bodies an
+// impulse ½Δt D (v_n − v_{n+1}) too much on the viscous forces of the step (a decay's first steps,
+// where its speed and its error are largest).  In the history's column, for those bodies.
+void ViscBridgeImplicitSolver::jumpStepError(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+                                             const std::vector<char>& jumped, Eigen::VectorXd& uHistory) const
+{
+	const Eigen::VectorXd d = x - sys.currentVelocities();
+	Eigen::VectorXd       y;
+	sys.apply(d, y, false); // M d + Δt D d
+	for (size_t i = 0; i < ids.size(); ++i) {
+		const auto  at = 6 * static_cast<long>(i);
+		const Real  m  = sys.bodies()[i].mass;
+		const bool after = static_cast<size_t>(ids[i]) < previousJumped.size() && previousJumped[ids[i]];
+		if (!(jumped[i] || after) || !(m > 0)) continue;
+		// all six components: M⁻¹D d has none in the modes the bridges do not damp, its translations alone would
+		const Matrix3r& I = sys.bodies()[i].inertia;
+		uHistory.segment<3>(at) = -0.5 * (y.segment<3>(at) - m * d.segment<3>(at)) / m;
+		if (I.trace() > 0) uHistory.segment<3>(at + 3) = -0.5 * I.ldlt().solve(Vector3r(y.segment<3>(at + 3) - I * d.segment<3>(at + 3)));
+	}
+}
+
+// A1: a bridge that formed or ruptured this step, or a body solved for the first time (its bridges
+// formed under the explicit scheme, or the scheme just switched), changed the model at once — and
+// with it the velocity change of every body the bridges tie to it (the solve moves a cluster as
+// one).  Such a change is the model's jump, not one the step integrated: neither this step nor the
+// next compares with it.  Skipping both keeps the history (A1e) whole: summed, the steps' changes
+// telescope, and with only one of the two skipped the jump itself would stay in the history for
+// good where the bridges do not relax it (a cluster's common motion).  Per body of the system.
+std::vector<char> ViscBridgeImplicitSolver::jumpedBodies(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, bool valid) const
+{
+	std::vector<long> root(ids.size());
+	std::iota(root.begin(), root.end(), 0);
+	const auto find = [&](long i) {
+		while (root[i] != i) i = root[i] = root[root[i]];
+		return i;
+	};
+	for (const vb::SystemBridge& c : sys.bridges()) // walls and fixed bodies tie nothing together
+		if (sys.bodies()[c.body1].mass > 0 && sys.bodies()[c.body2].mass > 0) root[find(c.body1)] = find(c.body2);
+	std::vector<char> jumped(ids.size(), 0);
+	const auto        mark = [&](Body::id_t id) {
+		const auto at = std::lower_bound(ids.begin(), ids.end(), id);
+		if (at != ids.end() && *at == id) jumped[find(at - ids.begin())] = 1;
+	};
+	for (size_t i = 0; i < ids.size(); ++i)
+		if (!valid || !previousChange[ids[i]].allFinite()) mark(ids[i]);
+	for (const BridgeEvent& e : ViscBridgeContext::of(scene).events(scene->iter))
+		mark(e.id1), mark(e.id2);
+	for (size_t i = 0; i < ids.size(); ++i)
+		jumped[i] = jumped[find(static_cast<long>(i))];
+	return jumped;
 }
 
 } // namespace yade

@@ -50,6 +50,7 @@ class ViscBridgeTimeStepper : public TimeStepper, public SchemeChooser {
 	std::vector<Real>             resumedMotion; // [saved scenes] (id, F, o) per body: forces restored at loading, offsets set in the scene at its first step
 	static constexpr size_t       savedMotionStride = 7;
 	std::vector<Real>             resumedErrors; // [saved scenes] (id, ε, ξ) per body: the carried velocity and position errors (A1c), set with the offsets
+	std::vector<Real>             resumedHistory; // [saved scenes] (id, ε_h, Fu) per body: the history's error (A1e), set with the offsets (stride savedErrorStride)
 	static constexpr size_t       savedErrorStride = 7;
 	static Vector3r               resumedVector(const std::vector<Real>& saved, size_t at) { return Vector3r(saved[at], saved[at + 1], saved[at + 2]); }
 	Real                          accuracyStep(Scene*); // records the last step; the step the tolerance allows (inf: none)

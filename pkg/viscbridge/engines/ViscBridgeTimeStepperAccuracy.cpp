@@ -33,7 +33,8 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 	const auto&           offset  = ViscBridgeContext::of(sc).velocityOffset;
 	auto&                 carried = ViscBridgeContext::of(sc).velocityError; // A1c
 	auto&                 shifted = ViscBridgeContext::of(sc).positionError;
-	Real                  carriedSq = 0, shiftedSq = 0, freshSq = 0;
+	Real                  carriedSq = 0, shiftedSq = 0, freshSq = 0, rawSq = 0, historySq = 0;
+	const auto&           history = ViscBridgeContext::of(sc).historyError; // A1e
 	const auto            finite    = [](const std::vector<Vector3r>& v, size_t id) { return id < v.size() && v[id].allFinite() ? v[id].squaredNorm() : 0.0; };
 	const Vector3r        gravity = ViscBridgeContext::newtonGravity(sc);
 	static const Vector3r none = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
@@ -67,7 +68,8 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 			if (raw && explicitScheme && explicitDamping(id) > 0) {
 				if (!liveGathered) gatherLiveDamping(sc), liveGathered = true;
 				freshSq += m * std::pow(carryExplicit(id, dv, dt, carried[id], shifted[id]), 2);
-			} else errorSq += m * dv.squaredNorm();
+			} else errorSq += m * dv.squaredNorm(), rawSq += m * dv.squaredNorm();
+			if (covered) historySq += m * finite(history, id);
 			carriedSq += m * finite(carried, id), shiftedSq += m * finite(shifted, id);
 			const Vector3r o = id < offset.size() && offset[id].allFinite() ? offset[id] : Vector3r::Zero();
 			offsetSq += m * o.squaredNorm();
@@ -80,10 +82,10 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 	}
 	if (filtered) errorSq += solver->stepErrorSquared(), freshSq += solver->stepCarriedSquared();
 	forceIter = sc->iter;
-	distributed::sum(sc, { &mass, &speedSq, &errorSq, &offsetSq, &freeSq, &freeDot, &freeAccSq, &carriedSq, &shiftedSq, &freshSq }); // [MPI] the same motion on every rank
+	distributed::sum(sc, { &mass, &speedSq, &errorSq, &offsetSq, &freeSq, &freeDot, &freeAccSq, &carriedSq, &shiftedSq, &freshSq, &rawSq, &historySq }); // [MPI] the same motion on every rank
 	if (!(mass > 0)) return {};
 	return { dt, std::sqrt(speedSq / mass), std::sqrt(errorSq / mass), std::sqrt(offsetSq / mass), freeSq / mass, freeDot / mass, freeAccSq / mass,
-		 std::sqrt(carriedSq / mass), std::sqrt(shiftedSq / mass), std::sqrt(freshSq / mass) };
+		 std::sqrt(carriedSq / mass), std::sqrt(shiftedSq / mass), std::sqrt(freshSq / mass), std::sqrt((rawSq + historySq) / mass) };
 }
 
 // A1c under the explicit scheme: a body its bridges damp keeps the velocity error δv of a step as a
@@ -138,6 +140,15 @@ void ViscBridgeTimeStepper::resumeOffsets(Scene* sc)
 		if (id < carried.size()) carried[id] = resumedVector(resumedErrors, k + 1), shifted[id] = resumedVector(resumedErrors, k + 4);
 	}
 	std::vector<Real>().swap(resumedErrors);
+	auto& history = ViscBridgeContext::of(sc).historyError;
+	auto& fresh   = ViscBridgeContext::of(sc).historyFresh;
+	history.assign(sc->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
+	fresh.assign(sc->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
+	for (size_t k = 0; k + savedErrorStride <= resumedHistory.size(); k += savedErrorStride) {
+		const auto id = static_cast<size_t>(resumedHistory[k]);
+		if (id < history.size()) history[id] = resumedVector(resumedHistory, k + 1), fresh[id] = resumedVector(resumedHistory, k + 4);
+	}
+	std::vector<Real>().swap(resumedHistory);
 }
 
 // The explicit bridges' damping rate of body `id` (P14's row sum, from the last full update and
@@ -175,7 +186,10 @@ void ViscBridgeTimeStepper::advanceOffsets(Scene* sc, Real dtBefore)
 	const size_t    n       = sc->bodies->size();
 	static const Vector3r unstarted = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
 	auto&           shifted = ViscBridgeContext::of(sc).positionError;
-	if (restartOffsets) offset.clear(), carried.clear(), shifted.clear(), restartOffsets = false;
+	if (restartOffsets) {
+		offset.clear(), carried.clear(), shifted.clear(), restartOffsets = false;
+		ViscBridgeContext::of(sc).historyError.clear(), ViscBridgeContext::of(sc).historyFresh.clear();
+	}
 	shifted.resize(n, unstarted);
 	offset.resize(n, unstarted);
 	carried.resize(n, unstarted);

@@ -148,6 +148,15 @@ void ViscBridgeTimeStepper::preSave(ViscBridgeTimeStepper&)
 	// before the stepper (older scenes end here; their law's integration held the choice)
 	savedState.push_back(Real(chosenScheme));
 	savedState.push_back(Real(errorFilterInterval)); // A1d (older scenes end here: the default)
+	// the history's error and what the next step takes into it (A1e), (id, ε_h, Fu) of the bodies
+	// that have them (older scenes end here: none)
+	std::vector<Real> history;
+	const size_t      held = context ? std::min({ context->historyError.size(), context->historyFresh.size(), counted }) : 0;
+	for (size_t id = 0; id < held; ++id) {
+		const Vector3r &e = context->historyError[id], &f = context->historyFresh[id];
+		if (previousForce[id].allFinite() && e.allFinite() && f.allFinite()) history.insert(history.end(), { Real(id), e[0], e[1], e[2], f[0], f[1], f[2] });
+	}
+	pack(savedState, history);
 }
 
 void ViscBridgeTimeStepper::reset()
@@ -236,6 +245,7 @@ void ViscBridgeTimeStepper::restoreSavedState()
 			if (r.at < savedState.size()) r.unpack(resumedErrors);
 			if (r.at < savedState.size()) chosenScheme = static_cast<int>(r.next());
 			if (r.at < savedState.size()) errorFilterInterval = std::max(1, static_cast<int>(r.next())), rollback.keep(checked());
+			if (r.at < savedState.size()) r.unpack(resumedHistory);
 		}
 	}
 	savedState.clear();

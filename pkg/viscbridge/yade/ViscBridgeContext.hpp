@@ -75,6 +75,11 @@ public:
 	// the time stepper carries a damped body's step error the same way, at its bridges' live rate
 	// (NaN: not started).
 	std::vector<Vector3r> velocityError, positionError;
+	// [accuracy] Per body id, the error of the velocity history the implicit scheme's own steps made
+	// (physics.md A1e): each step's filtered error (A1a) carried through the bridges, (M + Δt D)⁻¹M,
+	// as the velocity it is an error of relaxes; and the last step's error once filtered, which the
+	// next step's relaxation takes in (NaN: not started).
+	std::vector<Vector3r> historyError, historyFresh;
 	// [accuracy] Steps between the implicit solver's full filters of the estimate (physics.md A1d),
 	// set by the time stepper each step: 1 while its accuracy controller holds Δt.
 	int errorFilterInterval = 1;

@@ -20,6 +20,9 @@ struct StepMotion {
 	// A1c: of each body's carried velocity error [m/s], of the position error it made [m], and of the
 	// share of the velocity error this step added [m/s]
 	double carriedVelocity = 0, carriedPosition = 0, freshVelocity = 0;
+	// A1e: of the velocity error the kinetic energy sees [m/s]: a body the implicit scheme holds with
+	// the error of its velocity history, any other with its step's (velocityError's share)
+	double historyVelocity = 0;
 };
 
 // A1c, for the controller: what a share of a step's velocity error, `raw` [m/s], that the step relaxed
@@ -48,13 +51,13 @@ public:
 	void record(const StepMotion& m)
 	{
 		if (!(m.dt > 0) || !std::isfinite(m.speed) || !std::isfinite(m.velocityError) || !std::isfinite(m.offset)
-		    || !std::isfinite(m.carriedVelocity) || !std::isfinite(m.carriedPosition))
+		    || !std::isfinite(m.carriedVelocity) || !std::isfinite(m.carriedPosition) || !std::isfinite(m.historyVelocity))
 			return;
 		const double velocityError = std::hypot(m.velocityError, m.carriedVelocity);
 		positionError += m.dt * std::hypot(m.velocityError, m.offset);
 		carried = m.carriedPosition;
 		path += m.dt * m.speed;
-		energyError += m.dt * 2 * m.speed * velocityError;
+		energyError += m.dt * 2 * m.speed * std::hypot(m.historyVelocity, m.carriedVelocity);
 		energy += m.dt * m.speed * m.speed;
 		time += m.dt;
 		// per step, relative to the run's mean so far, or to now if higher, so that a bed coming to
