@@ -45,6 +45,8 @@ class ViscBridgeTimeStepper : public TimeStepper, public SchemeChooser {
 	std::vector<Real>             liveDamping; // per body id, under the explicit scheme: its bridges' Σ C^n(S)/m* (A1c)
 	void                          gatherLiveDamping(Scene*);
 	void                          resumeOffsets(Scene*);
+	static void                   resumePairs(std::vector<Real>& saved, size_t bodies, std::vector<Vector3r>& a, std::vector<Vector3r>& b);
+	void packPairs(std::vector<Real>& out, const std::vector<Vector3r>* a, const std::vector<Vector3r>* b, size_t counted) const;
 	void                          resumeForces();
 	bool                          restartOffsets = false; // resetErrorEstimate(): the offsets start afresh too
 	std::vector<Real>             resumedMotion; // [saved scenes] (id, F, o) per body: forces restored at loading, offsets set in the scene at its first step

@@ -131,24 +131,21 @@ void ViscBridgeTimeStepper::resumeOffsets(Scene* sc)
 		if (id < offset.size()) offset[id] = resumedVector(resumedMotion, k + 4);
 	}
 	std::vector<Real>().swap(resumedMotion);
-	auto& carried = ViscBridgeContext::of(sc).velocityError;
-	auto& shifted = ViscBridgeContext::of(sc).positionError;
-	carried.assign(sc->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
-	shifted.assign(sc->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
-	for (size_t k = 0; k + savedErrorStride <= resumedErrors.size(); k += savedErrorStride) {
-		const auto id = static_cast<size_t>(resumedErrors[k]);
-		if (id < carried.size()) carried[id] = resumedVector(resumedErrors, k + 1), shifted[id] = resumedVector(resumedErrors, k + 4);
+	auto& context = ViscBridgeContext::of(sc);
+	resumePairs(resumedErrors, sc->bodies->size(), context.velocityError, context.positionError);
+	resumePairs(resumedHistory, sc->bodies->size(), context.historyError, context.historyFresh);
+}
+
+// Per body, the two vectors of the saved (id, a, b) records; NaN (not started) for the others.
+void ViscBridgeTimeStepper::resumePairs(std::vector<Real>& saved, size_t bodies, std::vector<Vector3r>& a, std::vector<Vector3r>& b)
+{
+	a.assign(bodies, Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
+	b.assign(bodies, Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
+	for (size_t k = 0; k + savedErrorStride <= saved.size(); k += savedErrorStride) {
+		const auto id = static_cast<size_t>(saved[k]);
+		if (id < bodies) a[id] = resumedVector(saved, k + 1), b[id] = resumedVector(saved, k + 4);
 	}
-	std::vector<Real>().swap(resumedErrors);
-	auto& history = ViscBridgeContext::of(sc).historyError;
-	auto& fresh   = ViscBridgeContext::of(sc).historyFresh;
-	history.assign(sc->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
-	fresh.assign(sc->bodies->size(), Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()));
-	for (size_t k = 0; k + savedErrorStride <= resumedHistory.size(); k += savedErrorStride) {
-		const auto id = static_cast<size_t>(resumedHistory[k]);
-		if (id < history.size()) history[id] = resumedVector(resumedHistory, k + 1), fresh[id] = resumedVector(resumedHistory, k + 4);
-	}
-	std::vector<Real>().swap(resumedHistory);
+	std::vector<Real>().swap(saved);
 }
 
 // The explicit bridges' damping rate of body `id` (P14's row sum, from the last full update and

@@ -137,26 +137,26 @@ void ViscBridgeTimeStepper::preSave(ViscBridgeTimeStepper&)
 	pack(savedState, motion);
 	// the carried velocity and position errors (A1c), (id, ε, ξ) of the bodies that have them (older
 	// scenes end here)
-	std::vector<Real> errors;
-	const size_t      carried = context ? std::min({ context->velocityError.size(), context->positionError.size(), counted }) : 0;
-	for (size_t id = 0; id < carried; ++id) {
-		const Vector3r &e = context->velocityError[id], &x = context->positionError[id];
-		if (previousForce[id].allFinite() && e.allFinite() && x.allFinite()) errors.insert(errors.end(), { Real(id), e[0], e[1], e[2], x[0], x[1], x[2] });
-	}
-	pack(savedState, errors);
+	packPairs(savedState, context ? &context->velocityError : nullptr, context ? &context->positionError : nullptr, counted);
 	// the scheme autoIntegration chose (A5): the law of the loaded scene runs it from its first step,
 	// before the stepper (older scenes end here; their law's integration held the choice)
 	savedState.push_back(Real(chosenScheme));
 	savedState.push_back(Real(errorFilterInterval)); // A1d (older scenes end here: the default)
 	// the history's error and what the next step takes into it (A1e), (id, ε_h, Fu) of the bodies
 	// that have them (older scenes end here: none)
-	std::vector<Real> history;
-	const size_t      held = context ? std::min({ context->historyError.size(), context->historyFresh.size(), counted }) : 0;
-	for (size_t id = 0; id < held; ++id) {
-		const Vector3r &e = context->historyError[id], &f = context->historyFresh[id];
-		if (previousForce[id].allFinite() && e.allFinite() && f.allFinite()) history.insert(history.end(), { Real(id), e[0], e[1], e[2], f[0], f[1], f[2] });
+	packPairs(savedState, context ? &context->historyError : nullptr, context ? &context->historyFresh : nullptr, counted);
+}
+
+// (id, a, b) of the counted bodies that have both vectors, packed (resumePairs reads them back).
+void ViscBridgeTimeStepper::packPairs(std::vector<Real>& out, const std::vector<Vector3r>* a, const std::vector<Vector3r>* b, size_t counted) const
+{
+	std::vector<Real> records;
+	const size_t      n = a && b ? std::min({ a->size(), b->size(), counted }) : 0;
+	for (size_t id = 0; id < n; ++id) {
+		const Vector3r &x = (*a)[id], &y = (*b)[id];
+		if (previousForce[id].allFinite() && x.allFinite() && y.allFinite()) records.insert(records.end(), { Real(id), x[0], x[1], x[2], y[0], y[1], y[2] });
 	}
-	pack(savedState, history);
+	pack(out, records);
 }
 
 void ViscBridgeTimeStepper::reset()
