@@ -24,6 +24,20 @@ TEST(AccuracyControl, RunErrorIsTheRelativeErrorOfItsSteps)
 	EXPECT_NEAR(e.stepError(), 0.02, 1e-12);
 }
 
+TEST(AccuracyControl, TheKineticMeasureTakesTheVelocityHistorysError)
+{
+	// A1e: each step 1 % off locally while the velocity history is 5 % off: positions are off by
+	// the step errors' sum (1 %), the kinetic energy by twice the history's (10 %), not by twice 1 %
+	AccuracyEstimate e;
+	for (int n = 0; n < 50; ++n) {
+		StepMotion m { 1e-6, 0.1, 0.001 };
+		m.historyVelocity = 0.005;
+		e.record(m);
+	}
+	EXPECT_NEAR(e.runError(), 0.1, 1e-12);
+	EXPECT_NEAR(e.stepError(), 0.02, 1e-12); // the controller's measure is the step's own
+}
+
 TEST(AccuracyControl, ABedComingToRestIsMeasuredAgainstTheMotionItHad)
 {
 	// the speed falls a thousandfold while each step's error stays a tenth of the speed: the step

@@ -53,7 +53,6 @@ public:
 		if (!(m.dt > 0) || !std::isfinite(m.speed) || !std::isfinite(m.velocityError) || !std::isfinite(m.offset)
 		    || !std::isfinite(m.carriedVelocity) || !std::isfinite(m.carriedPosition) || !std::isfinite(m.historyVelocity))
 			return;
-		const double velocityError = std::hypot(m.velocityError, m.carriedVelocity);
 		positionError += m.dt * std::hypot(m.velocityError, m.offset);
 		carried = m.carriedPosition;
 		path += m.dt * m.speed;
