@@ -156,7 +156,7 @@ def interleaved(configs, measure, rounds=7):
 def write_rows(path, rows):
     import csv
     os.makedirs(os.path.dirname(path), exist_ok=True)
-    keys = list(rows[0])
+    keys = list(dict.fromkeys(k for r in rows for k in r))  # every row's columns, in the order met (older rows lack newer ones)
     with open(path, 'w', newline='') as fh:
         w = csv.DictWriter(fh, fieldnames=keys)
         w.writeheader()
