@@ -82,7 +82,8 @@ except KeyboardInterrupt as stop:
     # writing that step's row): let the step end before recording the state it leaves
     O.pause()
     O.wait()
-    history.record()
+    if not history.rows or history.rows[-1]['iter'] <= O.iter:  # else the recorder wrote the row of the step it cut short
+        history.record()
     history.plot(png, title=drum.describe())
     print('\ninterrupted (%s) at %.3f revolutions: %d rows in %s, plotted in %s' % (
         str(stop) or 'Ctrl-C', drum.revolutions(), len(history.rows), history.csv_path, png))
