@@ -1,5 +1,6 @@
 // ViscBridgeImplicitSolver: what the time stepper's error estimate needs of a step (physics.md
-// A1a-A1d): the step's error filtered, the offsets and carried errors relaxed by the step's system.
+// A1a–A1e): the step's error filtered, the offsets, carried errors and the velocity history's error
+// relaxed by the step's system.
 #include "viscbridge/engines/ViscBridgeImplicitSolverGathered.hpp"
 #include "viscbridge/core/timestep/AccuracyControl.hpp"
 #include "viscbridge/distributed/Distributed.hpp"
@@ -15,9 +16,9 @@ namespace yade {
 
 using namespace implicit_solver;
 
-// What the time stepper's estimate needs of this step (physics.md A1a–A1d): the step's error
-// filtered twice by its system, and the leapfrog's offsets and the carried errors relaxed once by
-// it.  Each filter is one application of the lagged Cholesky factor (or a CG solve with another
+// What the time stepper's estimate needs of this step (physics.md A1a–A1e): the step's error
+// filtered twice by its system, and the leapfrog's offsets, the carried errors and the history's
+// error (with the step's own error where it is a jump of the model) relaxed once by it.  Each filter is one application of the lagged Cholesky factor (or a CG solve with another
 // preconditioner); the error's first filter, the offsets and the carried errors share one (a sweep
 // over a large factor is memory-bound: four columns cost little more than one).  The offsets and
 // the carried errors are checked by one product each and refined by CG where the factor lags this
