@@ -68,6 +68,7 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	std::vector<Vector3r> previousChange; // per body id: (v_{n+1/2} − v_{n−1/2})/Δt of the last solve (NaN: not solved)
 	std::vector<Vector3r> stepChange;     // workspace: the same for this solve
 	std::vector<char>     previousJumped, stepJumped; // per body id: that change was a jump of the model (A1)
+	std::vector<Vector3r> historyWork;                // workspace: the history's errors of this step, per body id (A1e)
 	long                  previousChangeIter = -1;
 	long                  noCoefficientChangeAt = -1; // the step after a save (A1c)
 	void estimateStepError(const viscbridge::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
@@ -77,7 +78,7 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	bool stepErrorChange(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
 	                     Eigen::VectorXd& u, Eigen::VectorXd& uHistory); // false: nothing to compare with
 	void jumpStepError(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
-	                   const std::vector<char>& jumped, Eigen::VectorXd& uHistory) const;
+	                   const std::vector<char>& uncompared, Eigen::VectorXd& uHistory) const;
 	std::vector<char> jumpedBodies(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, bool valid) const;
 	bool offsetsOf(const std::vector<Body::id_t>& ids, size_t size, Eigen::VectorXd& o);
 	bool historyOf(const std::vector<Body::id_t>& ids, size_t size, Eigen::VectorXd& h);

@@ -227,21 +227,21 @@ bool ViscBridgeImplicitSolver::historyOf(const std::vector<Body::id_t>& ids, siz
 	return any;
 }
 
-// A1e: the relaxed history error of this step's bodies, and the error this step filtered once (the
-// first column of `filtered`; none where the step was not compared: a jump of the model).
+// A1e: the relaxed history error of this step's bodies, and the error this step filtered once
+// (`once`), which the next step takes in.
 void ViscBridgeImplicitSolver::storeHistory(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed, const Eigen::VectorXd& once)
 {
 	auto&          context = ViscBridgeContext::of(scene);
 	const size_t   n       = scene->bodies->size();
 	const Vector3r unstarted = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN());
-	std::vector<Vector3r> relaxedNow(n, unstarted); // a body that leaves the system leaves its history (it rejoins at a jump)
+	historyWork.assign(n, unstarted); // a body that leaves the system leaves its history (it rejoins at a jump)
 	context.historyFresh.assign(n, unstarted);
 	for (size_t i = 0; i < ids.size(); ++i) {
 		const auto at = 6 * static_cast<long>(i);
-		relaxedNow[ids[i]]           = ViscBridgeContext::relaxedOffset(relaxed.segment<3>(at));
+		historyWork[ids[i]]          = ViscBridgeContext::relaxedOffset(relaxed.segment<3>(at));
 		context.historyFresh[ids[i]] = once.segment<3>(at);
 	}
-	context.historyError.swap(relaxedNow);
+	context.historyError.swap(historyWork);
 }
 
 // A1c: the carried velocity errors relaxed by the step, and the positions they move.
@@ -284,15 +284,18 @@ bool ViscBridgeImplicitSolver::stepErrorChange(const vb::ImplicitViscousSystem& 
 	stepJumped.assign(n, 0);
 	previousJumped.resize(n, 0);
 	u.setZero(static_cast<long>(sys.size()));
+	std::vector<char> uncompared(ids.size(), 0); // this step is a jump, or follows one
+	bool              anyUncompared = false;
 	for (size_t i = 0; i < ids.size(); ++i) {
 		const Body::id_t id = ids[i];
 		stepChange[id]      = (x.segment<3>(6 * static_cast<long>(i)) - sys.bodies()[i].vel) / dt;
 		stepJumped[id]      = jumped[i];
-		if (!jumped[i] && !previousJumped[id]) u.segment<3>(6 * static_cast<long>(i)) = 0.5 * dt * (stepChange[id] - previousChange[id]);
+		uncompared[i]       = jumped[i] || previousJumped[id];
+		anyUncompared       = anyUncompared || uncompared[i];
+		if (!uncompared[i]) u.segment<3>(6 * static_cast<long>(i)) = 0.5 * dt * (stepChange[id] - previousChange[id]);
 	}
 	uHistory = u;
-	if (std::find(jumped.begin(), jumped.end(), 1) != jumped.end() || !valid || std::any_of(ids.begin(), ids.end(), [&](Body::id_t id) { return previousJumped[id]; }))
-		jumpStepError(sys, ids, x, jumped, uHistory);
+	if (anyUncompared) jumpStepError(sys, ids, x, uncompared, uHistory);
 	previousChange.swap(stepChange);
 	previousJumped.swap(stepJumped);
 	previousChangeIter = scene->iter;
@@ -304,7 +307,7 @@ bool ViscBridgeImplicitSolver::stepErrorChange(const vb::ImplicitViscousSystem& 
 // impulse ½Δt D (v_n − v_{n+1}) too much on the viscous forces of the step (a decay's first steps,
 // where its speed and its error are largest).  In the history's column, for those bodies.
 void ViscBridgeImplicitSolver::jumpStepError(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
-                                             const std::vector<char>& jumped, Eigen::VectorXd& uHistory) const
+                                             const std::vector<char>& uncompared, Eigen::VectorXd& uHistory) const
 {
 	const Eigen::VectorXd d = x - sys.currentVelocities();
 	Eigen::VectorXd       y;
@@ -312,8 +315,7 @@ void ViscBridgeImplicitSolver::jumpStepError(const vb::ImplicitViscousSystem& sy
 	for (size_t i = 0; i < ids.size(); ++i) {
 		const auto  at = 6 * static_cast<long>(i);
 		const Real  m  = sys.bodies()[i].mass;
-		const bool after = static_cast<size_t>(ids[i]) < previousJumped.size() && previousJumped[ids[i]];
-		if (!(jumped[i] || after) || !(m > 0)) continue;
+		if (!uncompared[i] || !(m > 0)) continue;
 		// all six components: M⁻¹D d has none in the modes the bridges do not damp, its translations alone would
 		const Matrix3r& I = sys.bodies()[i].inertia;
 		uHistory.segment<3>(at) = -0.5 * (y.segment<3>(at) - m * d.segment<3>(at)) / m;
