@@ -120,6 +120,31 @@ TEST(AccuracyControl, AStepsShareCountsOverTheStepsItPersists)
 	EXPECT_EQ(persistingShare(0.0, 0.0), 0.0);
 }
 
+TEST(AccuracyControl, AnAccumulatedErrorThatGrowsTightensTheStepsAndOneThatDecaysLetsThemGrowBack)
+{
+	// A4c: each step 0.1 % off locally (within its calibrated share at tol = 1e-2) while the
+	// accumulated velocity error grows past half the tolerance: the share each step is held to falls,
+	// never below minTightening, and the allowed step with it; once the accumulated error decays the
+	// share grows back to 1
+	const double tol = 1e-2;
+	AccuracyEstimate e;
+	StepMotion       m { 1e-6, 1.0, 1e-4 };
+	const double     plain = [&] { AccuracyEstimate fresh; fresh.record(m); fresh.tighten(tol); return fresh.allowedStep(1e-6, tol); }();
+	for (int n = 0; n < 400; ++n) {
+		m.historyVelocity = 1e-2 * (1 + 0.01 * n); // 2|δv|/|v| from 2 % up: over ½ tol, and growing
+		e.record(m);
+		e.tighten(tol);
+	}
+	EXPECT_NEAR(e.tighteningNow(), AccuracyEstimate::minTightening, 1e-15);
+	EXPECT_NEAR(e.allowedStep(1e-6, tol) / plain, std::sqrt(AccuracyEstimate::minTightening), 1e-9);
+	for (int n = 0; n < 400; ++n) {
+		m.historyVelocity *= 0.99; // decaying: whether over the share or not, the steps may grow back
+		e.record(m);
+		e.tighten(tol);
+	}
+	EXPECT_EQ(e.tighteningNow(), 1.0);
+}
+
 TEST(AccuracyControl, TheViscousLimitMakesTheImplicitSchemeCheaper)
 {
 	const double inf = std::numeric_limits<double>::infinity();

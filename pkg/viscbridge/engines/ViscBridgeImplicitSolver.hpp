@@ -75,10 +75,10 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	                       const std::vector<viscbridge::BridgeResistance>& R, const viscbridge::Preconditioner* pre);
 	bool carriedErrorsOf(const viscbridge::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
 	                     const std::vector<viscbridge::BridgeResistance>& R, Eigen::VectorXd& carried, Eigen::VectorXd& fresh); // false: nothing carried
-	bool stepErrorChange(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
-	                     Eigen::VectorXd& u, Eigen::VectorXd& uHistory); // false: nothing to compare with
+	bool stepErrorOf(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+	                 Eigen::VectorXd& u); // false: not estimated (under MPI)
 	void jumpStepError(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
-	                   const std::vector<char>& uncompared, Eigen::VectorXd& uHistory) const;
+	                   const std::vector<char>& uncompared, Eigen::VectorXd& u) const;
 	std::vector<char> jumpedBodies(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, bool valid) const;
 	bool offsetsOf(const std::vector<Body::id_t>& ids, size_t size, Eigen::VectorXd& o);
 	bool historyOf(const std::vector<Body::id_t>& ids, size_t size, Eigen::VectorXd& h);

@@ -33,24 +33,22 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
                                                  const std::vector<vb::BridgeResistance>& R, const vb::Preconditioner* pre)
 {
 	const std::vector<Body::id_t>& ids = g.ids;
-	Eigen::VectorXd                u, uHistory, o, h, carried, fresh;
-	const bool                     compare = stepErrorChange(sys, ids, x, u, uHistory);
-	const bool                     apart   = !distributed::active(scene) && (!compare || uHistory != u); // A1e's own column
-	const bool                     full    = filterIsDue(compare && !u.isZero(0));
-	const bool                     relax   = offsetsOf(ids, sys.size(), o);
-	const bool                     history = historyOf(ids, sys.size(), h);
-	const bool                     carry   = carriedErrorsOf(sys, g, x, R, carried, fresh);
+	Eigen::VectorXd                u, o, h, carried, fresh;
+	const bool                     estimated = stepErrorOf(sys, ids, x, u);
+	const bool                     full      = filterIsDue(estimated && !u.isZero(0));
+	const bool                     relax     = offsetsOf(ids, sys.size(), o);
+	const bool                     history   = historyOf(ids, sys.size(), h);
+	const bool                     carry     = carriedErrorsOf(sys, g, x, R, carried, fresh);
 	stepErrorCovered.assign(scene->bodies->size(), 0);
 	stepErrorSq = stepCarriedSq = 0;
 	stepErrorIter               = -1;
 	if (full) lastFilterIter = scene->iter, ++estimateFilters;
-	// the columns: [u] [uHistory] [o] [h] [carried fresh], filtered together with the factor
-	const long atO = long(compare) + long(apart), atH = atO + long(relax), atCarried = atH + long(history), columns = atCarried + 2 * long(carry);
+	// the columns: [u] [o] [h] [carried fresh], filtered together with the factor
+	const long atO = long(estimated), atH = atO + long(relax), atCarried = atH + long(history), columns = atCarried + 2 * long(carry);
 	const bool      factor = pre && preconditionerInUse == cholesky;
 	Eigen::MatrixXd in(sys.size(), columns), out;
 	if (columns > 0) {
-		if (compare) in.col(0) = u;
-		if (apart) in.col(atO - 1) = uHistory;
+		if (estimated) in.col(0) = u;
 		if (relax) in.col(atO) = o;
 		if (history) in.col(atH) = h;
 		if (carry) in.col(atCarried) = carried, in.col(atCarried + 1) = fresh;
@@ -63,17 +61,14 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 		out.col(c) = y;
 	}
 	if (relax) storeRelaxed(ids, out.col(atO), ViscBridgeContext::of(scene).velocityOffset);
-	if (!distributed::active(scene)) {
-		const Eigen::VectorXd once = out.col(apart ? atO - 1 : 0);
-		storeHistory(ids, history ? Eigen::VectorXd(out.col(atH)) : h, once);
-	}
+	if (estimated) storeHistory(ids, history ? Eigen::VectorXd(out.col(atH)) : h, out.col(0));
 	if (carry) {
 		Eigen::VectorXd relaxed = out.col(atCarried) + out.col(atCarried + 1);
 		if (factor && !full) // between filters their sum alone is checked: a factor of a stiffer network over-relaxes it
 			sys.filter(in.col(atCarried) + in.col(atCarried + 1), relaxed, 1e-2, 100, pre, false);
 		storeCarried(ids, relaxed);
 	}
-	if (!compare) return;
+	if (!estimated) return;
 	Real onceSq = 0; // Σ m|Fu|²
 	for (size_t i = 0; i < ids.size(); ++i) {
 		const auto at = 6 * static_cast<long>(i);
@@ -265,25 +260,28 @@ void ViscBridgeImplicitSolver::storeRelaxed(const std::vector<Body::id_t>& ids, 
 // A1a: the error of this step against its trapezoidal companion is ½Δt_n times the change of the
 // mean acceleration, ½Δt_n(Δv_n/Δt_n − Δv_{n−1}/Δt_{n−1}) (per body: a force that changes over the
 // step, the viscous one included) — per unit time, so that the controller's change of Δt, which
-// changes Δv with it, is not taken for an error.  Backward Euler follows that only as far as
+// changes Δv with it, is not taken for an error; at a jump of the model (and the step after it) the
+// step's own error instead (jumpStepError).  Backward Euler follows that only as far as
 // (M + Δt D)⁻¹ M lets it: filtered twice by this step's matrix — the filtered estimate of stiff
 // solvers, which scales like the true error both where Δt·C/m is small (z²/2) and large (1/z), so
 // that the stiff relaxations of the network do not count as errors while its soft, collective
 // motions do.  With the Cholesky factor, which the refresh rule keeps within a few CG iterations of
 // exact, each filter is one application of it (an estimate needs no more: bench/accuracy_target.py
 // keeps its calibration); otherwise CG with this step's preconditioner to a loose tolerance.
-bool ViscBridgeImplicitSolver::stepErrorChange(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
-                                               Eigen::VectorXd& u, Eigen::VectorXd& uHistory)
+// False under MPI (not over ranks: the offsets, carried errors and history are not either).
+bool ViscBridgeImplicitSolver::stepErrorOf(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
+                                           Eigen::VectorXd& u)
 {
 	const size_t          n     = scene->bodies->size();
 	static const Vector3r none  = Vector3r::Constant(std::numeric_limits<Real>::quiet_NaN()); // not solved in that step
-	const bool            valid = previousChange.size() == n && previousJumped.size() == n && previousChangeIter == scene->iter - 1 && !distributed::active(scene);
+	const bool            valid = previousChange.size() == n && previousJumped.size() == n && previousChangeIter == scene->iter - 1;
 	const Real            dt    = scene->dt;
+	u.setZero(static_cast<long>(sys.size()));
+	if (distributed::active(scene)) return false;
 	const std::vector<char> jumped = jumpedBodies(sys, ids, valid);
 	stepChange.assign(n, none);
 	stepJumped.assign(n, 0);
 	previousJumped.resize(n, 0);
-	u.setZero(static_cast<long>(sys.size()));
 	std::vector<char> uncompared(ids.size(), 0); // this step is a jump, or follows one
 	bool              anyUncompared = false;
 	for (size_t i = 0; i < ids.size(); ++i) {
@@ -294,12 +292,11 @@ bool ViscBridgeImplicitSolver::stepErrorChange(const vb::ImplicitViscousSystem& 
 		anyUncompared       = anyUncompared || uncompared[i];
 		if (!uncompared[i]) u.segment<3>(6 * static_cast<long>(i)) = 0.5 * dt * (stepChange[id] - previousChange[id]);
 	}
-	uHistory = u;
-	if (anyUncompared) jumpStepError(sys, ids, x, uncompared, uHistory);
+	if (anyUncompared) jumpStepError(sys, ids, x, uncompared, u);
 	previousChange.swap(stepChange);
 	previousJumped.swap(stepJumped);
 	previousChangeIter = scene->iter;
-	return valid;
+	return true;
 }
 
 // A1e: where a step is a jump of the model, or follows one, the two steps' changes tell nothing of
@@ -307,7 +304,7 @@ bool ViscBridgeImplicitSolver::stepErrorChange(const vb::ImplicitViscousSystem& 
 // impulse ½Δt D (v_n − v_{n+1}) too much on the viscous forces of the step (a decay's first steps,
 // where its speed and its error are largest).  In the history's column, for those bodies.
 void ViscBridgeImplicitSolver::jumpStepError(const vb::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids, const Eigen::VectorXd& x,
-                                             const std::vector<char>& uncompared, Eigen::VectorXd& uHistory) const
+                                             const std::vector<char>& uncompared, Eigen::VectorXd& u) const
 {
 	const Eigen::VectorXd d = x - sys.currentVelocities();
 	Eigen::VectorXd       y;
@@ -318,8 +315,8 @@ void ViscBridgeImplicitSolver::jumpStepError(const vb::ImplicitViscousSystem& sy
 		if (!uncompared[i] || !(m > 0)) continue;
 		// all six components: M⁻¹D d has none in the modes the bridges do not damp, its translations alone would
 		const Matrix3r& I = sys.bodies()[i].inertia;
-		uHistory.segment<3>(at) = -0.5 * (y.segment<3>(at) - m * d.segment<3>(at)) / m;
-		if (I.trace() > 0) uHistory.segment<3>(at + 3) = -0.5 * I.ldlt().solve(Vector3r(y.segment<3>(at + 3) - I * d.segment<3>(at + 3)));
+		u.segment<3>(at) = -0.5 * (y.segment<3>(at) - m * d.segment<3>(at)) / m;
+		if (I.trace() > 0) u.segment<3>(at + 3) = -0.5 * I.ldlt().solve(Vector3r(y.segment<3>(at + 3) - I * d.segment<3>(at + 3)));
 	}
 }
 

@@ -41,9 +41,18 @@ class ViscBridgeTimeStepper : public TimeStepper, public SchemeChooser {
 	void                          advanceOffsets(Scene*, Real dtBefore); // A1b, once the step's dt is set
 	static Vector3r               acceleration(const State&, const Vector3r& force, const Vector3r& gravity);
 	Real                          explicitDamping(size_t id) const;
-	Real                          carryExplicit(size_t id, const Vector3r& dv, Real dt, Vector3r& carried, Vector3r& shifted) const;
-	std::vector<Real>             liveDamping; // per body id, under the explicit scheme: its bridges' Σ C^n(S)/m* (A1c)
-	void                          gatherLiveDamping(Scene*);
+	// A1c under the explicit scheme: the bodies whose errors this step carries (with |δv|), staged in
+	// lastStepMotion's loop and relaxed through the network after it
+	struct ExplicitCarry {
+		size_t id;
+		Real   dvNorm;
+	};
+	std::vector<ExplicitCarry>    explicitCarried;
+	std::vector<char>             carryStaged;   // per body id: in explicitCarried (workspace)
+	std::vector<Vector3r>         carryChange;   // per body id: −Δt⁻¹ m × the network's relaxation of its error (workspace)
+	std::vector<Real>             liveDamping;   // per body id: its bridges' Σ C^n(S)/m* (workspace)
+	void                          stageExplicitCarry(size_t id, const Vector3r& dv, Vector3r& carried, Vector3r& shifted);
+	void                          carryExplicit(Scene*, Real& carriedSq, Real& shiftedSq, Real& freshSq);
 	void                          resumeOffsets(Scene*);
 	static void                   resumePairs(std::vector<Real>& saved, size_t bodies, std::vector<Vector3r>& a, std::vector<Vector3r>& b);
 	void packPairs(std::vector<Real>& out, const std::vector<Vector3r>* a, const std::vector<Vector3r>* b, size_t counted) const;
@@ -92,7 +101,7 @@ public:
 	int  chosenIntegration() const override { return chosenScheme; }
 	Real exactLimit();
 	void reset();
-	void resetErrorEstimate() { accuracyEstimate.reset(); errorEstimate = stepError = 0; restartOffsets = true; }
+	void resetErrorEstimate() { accuracyEstimate.reset(); errorEstimate = stepError = 0; errorTightening = 1; restartOffsets = true; }
 	void postLoad(ViscBridgeTimeStepper&);
 	void preSave(ViscBridgeTimeStepper&);
 	void postSave(ViscBridgeTimeStepper&);
@@ -143,8 +152,9 @@ public:
 		((Real,implicitCost,3,Attr::triggerPostLoad|Attr::noSave,"With autoIntegration: the cost of an implicit step in explicit steps, >= 1 (2–4 measured on beds of 300 spheres, 4–14 on 10³–10⁴: docs/performance.md §3)."))
 		((string,scheme,"",Attr::readonly|Attr::noSave,"The scheme of the viscous forces at the last step: 'explicit' or 'implicit'."))
 		((long,schemeSwitches,0,Attr::readonly|Attr::noSave,"Switches of the scheme made by autoIntegration."))
-		((Real,errorEstimate,0,Attr::readonly|Attr::noSave,"Estimated relative error of the run so far (physics.md A2): the position error of its steps against their second-order companions, Σ Δt|δv| (δv of A1: not counting the jump when a bridge arrives), with the leapfrog's velocity offset o in quadrature (A1b: YADE's velocity stands for the middle of a step; a change of Δt moves it), Σ Δt|(δv, o)|, relative to the distance travelled, Σ Δt|v̄| (RMS over the dynamic bodies, mass-weighted). Computed with or without `accuracy`; resetErrorEstimate() starts it afresh."))
+		((Real,errorEstimate,0,Attr::readonly|Attr::noSave,"Estimated relative error of the run so far (physics.md A2), the larger of two measures (mass-weighted RMS over the dynamic bodies): the positions, Σ Δt|(δv, o)| + |ξ| against the distance travelled Σ Δt|v̄| (δv the steps' velocity errors against their second-order companions, A1; o the leapfrog's offset, A1b; ξ the position error of the carried errors, A1c), and the kinetic-energy history, Σ Δt·2|v̄||δv_K| against Σ Δt|v̄|² (δv_K the velocity error the steps accumulated: A1c, A1e). Computed with or without `accuracy`; resetErrorEstimate() starts it afresh."))
 		((Real,stepError,0,Attr::readonly|Attr::noSave,"Estimated relative error of the last step (physics.md A3): its velocity error δv and the leapfrog's offset o (A1b), relative to the larger of the run's mean speed and the current one."))
+		((Real,errorTightening,1,Attr::readonly|Attr::noSave,"The share of `accuracy` each step's own error is held to (physics.md A4c): 1, or down to 0.01 while the error the steps accumulated (A1c, A1e) exceeds half the tolerance and grows — the error of a run whose steps' errors persist adds up beyond any one step's."))
 		((Real,dtAccuracy,0,Attr::readonly|Attr::noSave,"The step the tolerance `accuracy` allows now (A4) [s]; inf without a tolerance or while nothing changes."))
 		((int,criticalBody,-1,Attr::readonly,"Id of the body with the largest share of the top mode (or of the smallest P14 or Rayleigh bound when that governs), -1 if none."))
 		((vector<int>,criticalBodies,,Attr::readonly,"Ids of the bodies carrying 90 % of the top mode, largest share first (at most 10; under yade.mpy, of this rank's part of the network)."))

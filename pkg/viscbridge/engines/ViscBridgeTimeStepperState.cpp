@@ -145,6 +145,10 @@ void ViscBridgeTimeStepper::preSave(ViscBridgeTimeStepper&)
 	// the history's error and what the next step takes into it (A1e), (id, ε_h, Fu) of the bodies
 	// that have them (older scenes end here: none)
 	packPairs(savedState, context ? &context->historyError : nullptr, context ? &context->historyFresh : nullptr, counted);
+	// the controller's tightening by the accumulated error (A4c; older scenes end here: none)
+	double controller[viscbridge::AccuracyEstimate::controllerStateSize];
+	accuracyEstimate.saveController(controller);
+	savedState.insert(savedState.end(), controller, controller + viscbridge::AccuracyEstimate::controllerStateSize);
 }
 
 // (id, a, b) of the counted bodies that have both vectors, packed (resumePairs reads them back).
@@ -246,6 +250,11 @@ void ViscBridgeTimeStepper::restoreSavedState()
 			if (r.at < savedState.size()) chosenScheme = static_cast<int>(r.next());
 			if (r.at < savedState.size()) errorFilterInterval = std::max(1, static_cast<int>(r.next())), rollback.keep(checked());
 			if (r.at < savedState.size()) r.unpack(resumedHistory);
+			if (r.at + viscbridge::AccuracyEstimate::controllerStateSize <= savedState.size()) {
+				double controller[viscbridge::AccuracyEstimate::controllerStateSize];
+				for (double& x : controller) x = r.next();
+				accuracyEstimate.restoreController(controller);
+			}
 		}
 	}
 	savedState.clear();

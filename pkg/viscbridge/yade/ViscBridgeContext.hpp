@@ -72,8 +72,8 @@ public:
 	// [accuracy] Per body id, the velocity and position errors the change of its bridges' coefficients
 	// left (physics.md A1c): the implicit solver adds each step's, relaxes the velocity error through
 	// the bridges as an offset and moves the position error by Δt times it; under the explicit scheme
-	// the time stepper carries a damped body's step error the same way, at its bridges' live rate
-	// (NaN: not started).
+	// the time stepper carries a damped body's step error through the bridges' live coefficients,
+	// as explicit Euler carries a velocity (NaN: not started).
 	std::vector<Vector3r> velocityError, positionError;
 	// [accuracy] Per body id, the error of the velocity history the implicit scheme's own steps made
 	// (physics.md A1e): each step's filtered error (A1a) carried through the bridges, (M + Δt D)⁻¹M,

@@ -46,6 +46,10 @@ class AccuracyEstimate {
 	// not saved (the next step has them): the offset's part of local (A3), the velocity error's, the
 	// speed the step is measured against, and the free offsets' quadratic in δ (A4b)
 	double drift = 0, localVelocity = 0, controlledVelocity = 0, speedScale = 0, offsetSq = 0, offsetDotAcceleration = 0, accelerationSq = 0;
+	// A4c: the velocity error the kinetic energy sees now, relative as the step's and to the speed now
+	double accumulated = 0, accumulatedNow = 0;
+	double lastExcess = 0;
+	double tightening = 1; // A4c: the share of the tolerance each step's own error is held to (saved)
 
 public:
 	void record(const StepMotion& m)
@@ -70,6 +74,9 @@ public:
 		// A1c's share is derived, not calibrated: the controller holds it to `carriedShare` of the
 		// tolerance, A1a's error to `calibration` of it (A4a)
 		controlledVelocity = relative(std::hypot(m.velocityError, m.freshVelocity * std::sqrt(calibration / carriedShare)));
+		const double seen  = std::hypot(m.historyVelocity, m.carriedVelocity);
+		accumulated        = relative(seen);
+		accumulatedNow     = m.speed > 0 ? 2 * seen / m.speed : 0;
 		drift         = speedScale > 0 ? m.offset / speedScale : 0;
 		local         = std::max(localVelocity, drift);
 		offsetSq = m.freeOffsetSq, offsetDotAcceleration = m.freeOffsetDotAcceleration, accelerationSq = m.freeAccelerationSq;
@@ -100,7 +107,38 @@ public:
 	{
 		const double forOffset = offsetStep(lastDt, tolerance);
 		if (!(controlledVelocity > 0)) return forOffset;
-		return std::min(forOffset, lastDt * std::max(0.2, controllerMargin * std::sqrt(calibration * tolerance / controlledVelocity)));
+		return std::min(forOffset, lastDt * std::max(0.2, controllerMargin * std::sqrt(calibration * localTolerance(tolerance) / controlledVelocity)));
+	}
+	// A4c: what the steps' errors have accumulated to (A1c's carried error, A1e's history) is made: a
+	// smaller step does not undo it, but it makes the steps that follow add less.  While it exceeds
+	// its share of the tolerance and still grows, the share of the tolerance each step's own error is
+	// held to falls by (share/excess)^0.1 per step (an integral control: the accumulated error answers
+	// a change of Δt only over the steps it persists); otherwise it grows back by 3.5 % per step, to 1
+	// (an error the bridges relax, or one no step can undo, does not hold the run at small steps).
+	// Never below minTightening: an error that grows at any Δt (a mode nothing damps) costs at most
+	// 10x the steps.  The excess is measured against the run's mean motion while the run's e_K is
+	// within the share (a bed coming to rest is not held to its own vanishing motion), against the
+	// motion now once it is not (what e_K adds then is 2|δv|/|v| of the step's weight).
+	double localTolerance(double tolerance) const { return tolerance * tightening; }
+	double tighteningNow() const { return tightening; }
+	void tighten(double tolerance)
+	{
+		const double share  = historyShare * tolerance;
+		const double excess = energy > 0 && energyError / energy > share ? std::max(accumulated, accumulatedNow) : accumulated;
+		const bool growing = excess > lastExcess;
+		lastExcess         = excess;
+		if (!std::isfinite(excess) || !(tolerance > 0)) return;
+		const double factor = excess > share && growing ? std::pow(share / excess, tighteningRate) : relaxingRate;
+		tightening          = std::clamp(tightening * factor, minTightening, 1.0);
+	}
+	static constexpr double tighteningRate = 0.1, relaxingRate = 1.035, minTightening = 1e-2;
+	// A4c's state, saved after the sums (older scenes: none, the defaults)
+	static constexpr int controllerStateSize = 2;
+	void saveController(double out[controllerStateSize]) const { out[0] = tightening, out[1] = lastExcess; }
+	void restoreController(const double in[controllerStateSize])
+	{
+		tightening = std::isfinite(in[0]) ? std::clamp(in[0], minTightening, 1.0) : 1.0;
+		lastExcess = std::isfinite(in[1]) ? in[1] : 0;
 	}
 	// A4b: the largest Δt_{n+1} = Δt_n + δ that keeps the free offsets, o + ½δa, within half the
 	// tolerance of the speed (their estimate is exact: no calibration; the other half is the rest's).
@@ -122,10 +160,14 @@ public:
 	// A1c: the share of the tolerance the carried error's growth is held to (what the run's error
 	// adds up, A2, without A1a's calibration: its estimate is the error itself, not a local proxy)
 	static constexpr double carriedShare = 0.5;
-	// A4: before any step is known, the run starts at `tolerance` × the stability limit (an error
-	// committed cannot be undone: no step is taken twice), and the controller lets it grow by up to
-	// `growth` per step while the estimate allows.
-	static double firstStep(double limit, double tolerance) { return tolerance * limit; }
+	// A4c: the share of the tolerance the accumulated error may take before the steps are tightened
+	static constexpr double historyShare = 0.5;
+	// A4: before any step is known, the run starts at 1 % of `tolerance` × the stability limit (an
+	// error committed cannot be undone: no step is taken twice; at `tolerance` × the limit, the first
+	// step of a 45-sphere bed at 1 Pa·s made 4.5 % of its error at tolerance 1e-2), and the controller
+	// lets it grow by up to `growth` per step while the estimate allows.
+	static double firstStep(double limit, double tolerance) { return firstStepShare * tolerance * limit; }
+	static constexpr double firstStepShare = 1e-2;
 	static constexpr double growth = 2;
 };
 
