@@ -50,7 +50,7 @@ class ViscBridgeTimeStepper : public TimeStepper, public SchemeChooser {
 	std::vector<ExplicitCarry>    explicitCarried;
 	std::vector<char>             carryStaged;   // per body id: in explicitCarried (workspace)
 	std::vector<Vector3r>         carryChange;   // per body id: −Δt⁻¹ m × the network's relaxation of its error (workspace)
-	std::vector<Real>             liveDamping;   // per body id: its bridges' Σ C^n(S)/m* (workspace)
+	std::vector<Real>             liveDamping;   // per body id: its bridges' Σ C^n(S)/m* at their gaps now (workspace)
 	void                          stageExplicitCarry(size_t id, const Vector3r& dv, Vector3r& carried, Vector3r& shifted);
 	void                          carryExplicit(Scene*, Real& carriedSq, Real& shiftedSq, Real& freshSq);
 	void                          resumeOffsets(Scene*);

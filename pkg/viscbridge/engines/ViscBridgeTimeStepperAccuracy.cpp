@@ -92,12 +92,17 @@ vb::StepMotion ViscBridgeTimeStepper::lastStepMotion(Scene* sc)
 // A1c under the explicit scheme: a body its bridges damp keeps the velocity error δv of a step as a
 // body of the network does: the viscous force lags the velocity it damps, which a step of the same
 // size cannot undo, and the error is relaxed only as the bridges' live coefficients relax a velocity
-// — through the network, ε_{n+1} = (I − Δt M⁻¹D)(ε_n + δv_n), the propagation of explicit Euler, with
-// D the bridges' translational damping at their gaps now (P3).  An error the bodies a bridge ties
-// share (a cluster's common motion) is not relaxed by it: relaxed per body at its own rate Σ C^n/m*,
-// a 45-sphere bed at 1 Pa·s kept 1 % of its true error after a few µs (physics.md A1c).  The run's
-// error counts the position error ξ it makes, ξ_{n+1} = ξ_n + Δt ε_{n+1}, not Δt|δv|.  Staged per
-// body in lastStepMotion's loop (ε_n + δv_n), relaxed here with one pass over the interactions.
+// — through the network, as explicit Euler propagates it, ε_{n+1} = ε' − Δt M⁻¹D ε' with ε' = ε_n +
+// δv_n and D the bridges' translational damping at their gaps now (P3) — except above half the
+// stability limit h, where it is taken at h/(2Δt) of the change: at the limit explicit Euler's
+// own 1 − z ≈ −1 would keep the top mode's alternating errors for good (the 45-sphere bed's estimate
+// read 10⁴× its true error at safety 1); so scaled, the top mode's error goes to 0 and the others
+// relax at least half as fast as the scheme relaxes them.
+// An error the bodies a bridge ties share (a cluster's common motion) is not relaxed by it: relaxed
+// per body at d, a 45-sphere bed at 1 Pa·s kept 1 % of its true error after a few µs (physics.md
+// A1c).  The run's error counts the position error ξ it makes, ξ_{n+1} = ξ_n + Δt ε_{n+1}, not
+// Δt|δv|.  Staged per body in lastStepMotion's loop (ε'), relaxed here with one pass over the
+// interactions.
 void ViscBridgeTimeStepper::stageExplicitCarry(size_t id, const Vector3r& dv, Vector3r& carried, Vector3r& shifted)
 {
 	if (!carried.allFinite() || !shifted.allFinite()) carried = shifted = Vector3r::Zero();
@@ -107,7 +112,7 @@ void ViscBridgeTimeStepper::stageExplicitCarry(size_t id, const Vector3r& dv, Ve
 
 // The staged errors relaxed by the network (above), their sums added to the step's: the carried
 // velocity and position errors, and the share of the controller — δv over the steps it persists
-// (A1c), at the body's own relaxation rate 1 + Δt Σ C^n(S)/m*.
+// (A1c), at the body's own relaxation rate 1 + Δt d.
 void ViscBridgeTimeStepper::carryExplicit(Scene* sc, Real& carriedSq, Real& shiftedSq, Real& freshSq)
 {
 	auto&        carried = ViscBridgeContext::of(sc).velocityError;
@@ -119,7 +124,10 @@ void ViscBridgeTimeStepper::carryExplicit(Scene* sc, Real& carriedSq, Real& shif
 		carryStaged[c.id] = 1;
 	liveDamping.assign(n, 0);
 	carryChange.assign(n, Vector3r::Zero());
-	const int index = ViscBridgePhys::getClassIndexStatic();
+	// the top mode's z = λ_max Δt, 2Δt/h at the stability limit h = dtBound/safety
+	const Real topMode = dtBound > 0 && std::isfinite(dtBound) ? 2 * safety * dt / dtBound : 0;
+	const Real share   = std::min(Real(1), 1 / topMode);
+	const int  index   = ViscBridgePhys::getClassIndexStatic();
 	for (const auto& I : *sc->interactions) {
 		if (!I->isReal() || I->phys->getClassIndex() != index) continue;
 		const auto& ph = static_cast<const ViscBridgePhys&>(*I->phys);
@@ -135,7 +143,7 @@ void ViscBridgeTimeStepper::carryExplicit(Scene* sc, Real& carriedSq, Real& shif
 	}
 	for (const auto& c : explicitCarried) {
 		const Real m = (*sc->bodies)[c.id]->state->mass;
-		carried[c.id] = ViscBridgeContext::relaxedOffset(carried[c.id] + dt * carryChange[c.id] / m);
+		carried[c.id] = ViscBridgeContext::relaxedOffset(carried[c.id] + dt * share * carryChange[c.id] / m);
 		shifted[c.id] = ViscBridgeContext::relaxedOffset(shifted[c.id] + dt * carried[c.id]);
 		carriedSq += m * carried[c.id].squaredNorm(), shiftedSq += m * shifted[c.id].squaredNorm();
 		freshSq += m * std::pow(vb::persistingShare(c.dvNorm, c.dvNorm / (1 + dt * liveDamping[c.id])), 2);
