@@ -46,7 +46,8 @@ class AccuracyEstimate {
 	// not saved (the next step has them): the offset's part of local (A3), the velocity error's, the
 	// speed the step is measured against, and the free offsets' quadratic in δ (A4b)
 	double drift = 0, localVelocity = 0, controlledVelocity = 0, speedScale = 0, offsetSq = 0, offsetDotAcceleration = 0, accelerationSq = 0;
-	// A4c: the velocity error the kinetic energy sees now, relative as the step's and to the speed now
+	// A4c: the velocity error the kinetic energy sees now, relative as the step's, and to the speed
+	// now while that is at least nowShare of the run's mean (0 otherwise)
 	double accumulated = 0, accumulatedNow = 0;
 	double lastExcess = 0;
 	double tightening = 1; // A4c: the share of the tolerance each step's own error is held to (saved)
@@ -76,7 +77,7 @@ public:
 		controlledVelocity = relative(std::hypot(m.velocityError, m.freshVelocity * std::sqrt(calibration / carriedShare)));
 		const double seen  = std::hypot(m.historyVelocity, m.carriedVelocity);
 		accumulated        = relative(seen);
-		accumulatedNow     = m.speed > 0 ? 2 * seen / m.speed : 0;
+		accumulatedNow     = m.speed > nowShare * path / time ? 2 * seen / m.speed : 0;
 		drift         = speedScale > 0 ? m.offset / speedScale : 0;
 		local         = std::max(localVelocity, drift);
 		offsetSq = m.freeOffsetSq, offsetDotAcceleration = m.freeOffsetDotAcceleration, accelerationSq = m.freeAccelerationSq;
@@ -116,16 +117,19 @@ public:
 	// a change of Δt only over the steps it persists); otherwise it grows back by 3.5 % per step, to 1
 	// (an error the bridges relax, or one no step can undo, does not hold the run at small steps).
 	// Never below minTightening: an error that grows at any Δt (a mode nothing damps) costs at most
-	// 10x the steps.  The excess is measured against the run's mean motion while the run's e_K is
-	// within the share (a bed coming to rest is not held to its own vanishing motion), against the
-	// motion now once it is not (what e_K adds then is 2|δv|/|v| of the step's weight).
+	// 10x the steps.  The excess is measured as A3 measures a step, against the run's mean motion or
+	// the motion now if faster (a bed coming to rest is not held to its own vanishing motion); and,
+	// once the run's e_K exceeds the share, against the motion now while that is at least a third of
+	// the run's mean speed (what e_K adds then is 2|δv|/|v| of the step's weight: the 45-sphere bed at
+	// 1 Pa·s, slowing to a third of its mean speed, ended 1.8x over 1e-2 without it; below a third,
+	// the stiffening pair's rest after it stopped cost 5x the steps at 1e-4 for the same error).
 	double localTolerance(double tolerance) const { return tolerance * tightening; }
 	double tighteningNow() const { return tightening; }
 	void tighten(double tolerance)
 	{
 		const double share  = historyShare * tolerance;
-		const double excess = energy > 0 && energyError / energy > share ? std::max(accumulated, accumulatedNow) : accumulated;
-		const bool growing = excess > lastExcess;
+		const double excess  = energy > 0 && energyError / energy > share ? std::max(accumulated, accumulatedNow) : accumulated;
+		const bool   growing = excess > lastExcess;
 		lastExcess         = excess;
 		if (!std::isfinite(excess) || !(tolerance > 0)) return;
 		const double factor = excess > share && growing ? std::pow(share / excess, tighteningRate) : relaxingRate;
@@ -162,6 +166,8 @@ public:
 	static constexpr double carriedShare = 0.5;
 	// A4c: the share of the tolerance the accumulated error may take before the steps are tightened
 	static constexpr double historyShare = 0.5;
+	// A4c: the speed, as a share of the run's mean, from which the excess is measured against it
+	static constexpr double nowShare = 1.0 / 3;
 	// A4: before any step is known, the run starts at 1 % of `tolerance` × the stability limit (an
 	// error committed cannot be undone: no step is taken twice; at `tolerance` × the limit, the first
 	// step of a 45-sphere bed at 1 Pa·s made 4.5 % of its error at tolerance 1e-2), and the controller
