@@ -127,10 +127,10 @@ public:
 	double tighteningNow() const { return tightening; }
 	void tighten(double tolerance)
 	{
-		const double share  = historyShare * tolerance;
+		const double share   = historyShare * tolerance;
 		const double excess  = energy > 0 && energyError / energy > share ? std::max(accumulated, accumulatedNow) : accumulated;
 		const bool   growing = excess > lastExcess;
-		lastExcess         = excess;
+		lastExcess           = excess;
 		if (!std::isfinite(excess) || !(tolerance > 0)) return;
 		const double factor = excess > share && growing ? std::pow(share / excess, tighteningRate) : relaxingRate;
 		tightening          = std::clamp(tightening * factor, minTightening, 1.0);
@@ -170,7 +170,7 @@ public:
 	static constexpr double nowShare = 1.0 / 3;
 	// A4: before any step is known, the run starts at 1 % of `tolerance` × the stability limit (an
 	// error committed cannot be undone: no step is taken twice; at `tolerance` × the limit, the first
-	// step of a 45-sphere bed at 1 Pa·s made 4.5 % of its error at tolerance 1e-2), and the controller
+	// step of a 45-sphere bed at 1 Pa·s erred by 4.5 % of its speed at tolerance 1e-2), and the controller
 	// lets it grow by up to `growth` per step while the estimate allows.
 	static double firstStep(double limit, double tolerance) { return firstStepShare * tolerance * limit; }
 	static constexpr double firstStepShare = 1e-2;
