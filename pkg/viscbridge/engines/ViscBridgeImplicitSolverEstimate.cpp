@@ -18,7 +18,8 @@ using namespace implicit_solver;
 
 // What the time stepper's estimate needs of this step (physics.md A1a–A1e): the step's error
 // filtered twice by its system, and the leapfrog's offsets, the carried errors and the history's
-// error (with the step's own error where it is a jump of the model) relaxed once by it.  Each filter is one application of the lagged Cholesky factor (or a CG solve with another
+// error relaxed once by it (at a jump of the model, the step's error is its own: stepErrorOf).
+// Each filter is one application of the lagged Cholesky factor (or a CG solve with another
 // preconditioner); the error's first filter, the offsets and the carried errors share one (a sweep
 // over a large factor is memory-bound: four columns cost little more than one).  The offsets and
 // the carried errors are checked by one product each and refined by CG where the factor lags this
