@@ -81,9 +81,10 @@ def engines(config):
         law = yw.Law2_ScGeom_ViscBridgePhys_HertzViscous()
     else:
         raise ValueError('unknown configuration %r' % config)
-    liquid = [yw.ViscBridgeLiquid()] if getattr(ip2, 'liquidModel', None) == 'film' else []
+    # as viscbridge.engines() builds it: the law's forces summed per body after the loop, then the films
+    after = [yw.ViscBridgeForceSum()] + ([yw.ViscBridgeLiquid()] if getattr(ip2, 'liquidModel', None) == 'film' else [])
     return [yw.ForceResetter(), yw.InsertionSortCollider([yw.Bo1_Sphere_Aabb(), yw.Bo1_Wall_Aabb()]),
-            yw.InteractionLoop(loop_geoms, [ip2], [law])] + liquid + [yw.NewtonIntegrator(gravity=(0, 0, -9.81), damping=0.0)]
+            yw.InteractionLoop(loop_geoms, [ip2], [law])] + after + [yw.NewtonIntegrator(gravity=(0, 0, -9.81), damping=0.0)]
 
 
 def load(bed_path, config, dt=1e-9):

@@ -93,7 +93,7 @@ def engines(gravity=(0, 0, -9.81), integration=None, timeStepper=True, safety=No
     minRadius: smallest sphere radius, used with formationDistance > 0 to set the detection range
         (default: taken from O.bodies).
     label_prefix: prefix of the engines' labels ('collider', 'viscBridgeIp2', 'viscBridgeLaw',
-        'newton', 'timeStepper', 'implicitSolver', 'guard', 'liquid').
+        'newton', 'timeStepper', 'implicitSolver', 'guard', 'liquid', 'forceSum').
     kinematic: engines that move boundaries (YADE's RotationEngine, TranslationEngine, ...), placed
         where they belong: right before NewtonIntegrator, which then moves the bodies they drive.
     ruptureSplit: with liquidModel='film', how a ruptured bridge's liquid returns to the films:
@@ -114,6 +114,8 @@ def engines(gravity=(0, 0, -9.81), integration=None, timeStepper=True, safety=No
         # last step's forces (before ForceResetter) to account for the work of moving walls
         out.append(yw.ViscBridgeGuard(label=label_prefix + 'guard'))
     out += [yw.ForceResetter()] + _contact_engines(ip2, law, minRadius, label_prefix)
+    # the law's forces summed per body in an order the threads cannot change: bit-identical runs on any -j
+    out.append(yw.ViscBridgeForceSum(label=label_prefix + 'forceSum'))
     if ip2.liquidModel == 'film':  # before the stepper: it sees the new bridges' actual volumes
         out.append(yw.ViscBridgeLiquid(label=label_prefix + 'liquid', ruptureSplit=ruptureSplit, minBridgeVolume=minBridgeVolume))
     elif ruptureSplit != 'half':

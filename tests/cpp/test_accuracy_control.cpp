@@ -85,6 +85,24 @@ TEST(AccuracyControl, AFreeFallsOffsetSetsTheStepThatKeepsItWithinHalfTheToleran
 	EXPECT_TRUE(std::isinf(coasting.allowedStep(dt, 1e-3)));
 }
 
+TEST(AccuracyControl, AFallFromRestIsMeasuredAgainstTheSpeedOfOneStableStep)
+{
+	// A4b: a cloud released from rest falls at g·t after its first step Δt₁; its offset ½gΔt₁ held
+	// to the tolerance of that vanishing speed would shrink Δt step after step (a drum's cloud went
+	// to 1e-11 s, where its positions no longer moved).  Against the speed g·h one step at the
+	// stability limit h gives, the step may grow to 0.9·tol·h (twice 0.9 × ½ tol × g·h / g)
+	const double g = 9.81, h = 1.5e-5, dt = 1e-4 * h, o = 0.5 * dt * g, tol = 1e-2;
+	AccuracyEstimate e;
+	e.record(StepMotion { dt, g * dt, 0.0, o, o * o, o * g, g * g });
+	EXPECT_NEAR(e.allowedStep(dt, tol), 0.2 * dt, 1e-20); // measured against g·Δt₁ alone: cut 5×
+	EXPECT_NEAR(e.allowedStep(dt, tol, h), 2 * 0.9 * 0.5 * tol * h, 1e-18);
+	EXPECT_GT(e.allowedStep(dt, tol, h), 10 * dt);
+	// a body already faster than g·h keeps its own speed as the measure
+	AccuracyEstimate fast;
+	fast.record(StepMotion { dt, 0.1, 0.0, o, o * o, o * g, g * g });
+	EXPECT_DOUBLE_EQ(fast.allowedStep(dt, tol, h), fast.allowedStep(dt, tol));
+}
+
 TEST(AccuracyControl, ACarriedErrorCountsInTheRunButOnlyItsNewShareInTheStep)
 {
 	// A1c: a pair that stopped 1e-8 m off after travelling 1e-5 m has a run error of 1e-3 however

@@ -2,6 +2,7 @@
 // network (physics.md §4, P15), between InteractionLoop and NewtonIntegrator.
 #pragma once
 #include <array>
+#include <cstdint>
 #include <limits>
 #include <core/Body.hpp>
 #include <core/GlobalEngine.hpp>
@@ -48,9 +49,8 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	Body::id_t                    moving(Body::id_t id) const;
 	Vector3r                      armInClump(Body::id_t id) const;
 	std::vector<int>              touched; // workspace of gather(): per body id, its index in the system (−1: none)
-	// workspace of describedBridges(): per interaction, its physics if it is a bridge described this step, and its bodies
-	mutable std::vector<ViscBridgePhys*>           bridgeOf;
-	mutable std::vector<std::array<Body::id_t, 2>> endsOf;
+	// workspace of describedBridges(): the bridges described this step, by their bodies' ids (OrderedWetContacts)
+	mutable std::vector<std::pair<std::uint64_t, Interaction*>> described;
 	Eigen::VectorXd               warmStartGuess(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids) const;
 	const viscbridge::Preconditioner* refreshPreconditioner(const viscbridge::ImplicitViscousSystem& sys, const std::vector<long>& pattern);
 	std::string                       automaticKind(const viscbridge::ImplicitViscousSystem& sys) const;

@@ -3,6 +3,7 @@
 #include "viscbridge/engines/ViscBridgeImplicitSolverGathered.hpp"
 #include "viscbridge/distributed/Distributed.hpp"
 #include "viscbridge/engines/ViscBridgeImplicitWarmStart.hpp"
+#include "viscbridge/yade/OrderedWetContacts.hpp"
 #include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include <core/Clump.hpp>
@@ -79,29 +80,19 @@ Vector3r ViscBridgeImplicitSolver::armInClump(Body::id_t id) const
 	return b.isClumpMember() ? Vector3r(b.state->pos - Body::byId(b.clumpId, scene)->state->pos) : Vector3r::Zero();
 }
 
-// The bridges the law described this step, in the interactions' order: tested on all threads
-// (following the pointers to each interaction and its physics is the cost), collected in order.
+// The bridges the law described this step, in the order of their bodies' ids (OrderedWetContacts:
+// the same on any number of threads), tested on all threads.
 void ViscBridgeImplicitSolver::describedBridges(Gathered& g) const
 {
-	InteractionContainer&                    all     = *scene->interactions; // (its size() is not const)
-	const long                               n       = static_cast<long>(all.size());
-	const int                                vbIndex = ViscBridgePhys::getClassIndexStatic();
-	const long                               iter    = scene->iter;
-	bridgeOf.assign(n, nullptr);
-	endsOf.resize(n); // read only where bridgeOf is set
-#pragma omp parallel for schedule(static)
-	for (long k = 0; k < n; ++k) {
-		const Interaction& I = *all[k];
-		if (!I.isReal() || I.phys->getClassIndex() != vbIndex) continue;
-		auto* ph = static_cast<ViscBridgePhys*>(I.phys.get());
-		if (ph->bridge && ph->implicitBlock.valid && ph->implicitBlockIter == iter) bridgeOf[k] = ph, endsOf[k] = { I.getId1(), I.getId2() };
+	const long iter = scene->iter;
+	orderedWetContacts(
+	        scene, [iter](const Interaction&, const ViscBridgePhys& ph) { return ph.bridge && ph.implicitBlock.valid && ph.implicitBlockIter == iter; },
+	        described);
+	for (const auto& [key, I] : described) {
+		g.described.push_back(I);
+		g.owners.push_back(static_cast<ViscBridgePhys*>(I->phys.get()));
+		g.ends.push_back({ I->getId1(), I->getId2() });
 	}
-	for (long k = 0; k < n; ++k)
-		if (bridgeOf[k]) {
-			g.described.push_back(all[k].get());
-			g.owners.push_back(bridgeOf[k]);
-			g.ends.push_back(endsOf[k]);
-		}
 }
 
 vb::SystemBody ViscBridgeImplicitSolver::systemBody(const Body& b, const distributed::Ownership& own, const NewtonIntegrator& newton) const

@@ -3,6 +3,7 @@
 #include "viscbridge/engines/ViscBridgeTimeStepper.hpp"
 #include "viscbridge/core/util/Validation.hpp"
 #include "viscbridge/distributed/Distributed.hpp"
+#include "viscbridge/yade/OrderedWetContacts.hpp"
 #include "viscbridge/scene/SceneValidation.hpp"
 #include "viscbridge/yade/Law2_ScGeom_ViscBridgePhys_HertzViscous.hpp"
 #include "viscbridge/yade/ViscBridgeContext.hpp"
@@ -127,11 +128,10 @@ void ViscBridgeTimeStepper::carryExplicit(Scene* sc, Real& carriedSq, Real& shif
 	// the top mode's z = λ_max Δt, 2Δt/h at the stability limit h = dtBound/safety
 	const Real topMode = dtBound > 0 && std::isfinite(dtBound) ? 2 * safety * dt / dtBound : 0;
 	const Real share   = std::min(Real(1), 1 / topMode);
-	const int  index   = ViscBridgePhys::getClassIndexStatic();
-	for (const auto& I : *sc->interactions) {
-		if (!I->isReal() || I->phys->getClassIndex() != index) continue;
+	// in the order of the bodies' ids (OrderedWetContacts): the same estimate on any number of threads
+	orderedWetContacts(sc, [](const Interaction&, const ViscBridgePhys& ph) { return ph.bridge && ph.mEff > 0; }, carryContacts);
+	for (const auto& [key, I] : carryContacts) {
 		const auto& ph = static_cast<const ViscBridgePhys&>(*I->phys);
-		if (!ph.bridge || !(ph.mEff > 0)) continue;
 		const auto id1 = static_cast<size_t>(I->getId1()), id2 = static_cast<size_t>(I->getId2());
 		liveDamping[id1] += ph.cn / ph.mEff, liveDamping[id2] += ph.cn / ph.mEff;
 		if (!carryStaged[id1] && !carryStaged[id2]) continue;
@@ -244,7 +244,7 @@ Real ViscBridgeTimeStepper::accuracyStep(Scene* sc)
 	errorTightening = accuracyEstimate.tighteningNow();
 	errorEstimate = accuracyEstimate.runError();
 	stepError     = accuracyEstimate.stepError();
-	dtAccuracy    = accuracy > 0 ? accuracyEstimate.allowedStep(sc->dt, accuracy) : std::numeric_limits<Real>::infinity();
+	dtAccuracy    = accuracy > 0 ? accuracyEstimate.allowedStep(sc->dt, accuracy, dtBound) /* the last full update's limit */ : std::numeric_limits<Real>::infinity();
 	return dtAccuracy; // before the first step is known: firstStep() of the limit, in computeTimeStep
 }
 

@@ -1,4 +1,5 @@
 #include "viscbridge/scene/NetworkOfScene.hpp"
+#include "viscbridge/yade/OrderedWetContacts.hpp"
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include "viscbridge/core/timestep/PairMaps.hpp"
 #include <pkg/dem/ScGeom.hpp>
@@ -18,7 +19,7 @@ namespace {
 	}
 }
 
-void NetworkOfScene::gather(const Scene* scene, bool viscousExplicit)
+void NetworkOfScene::gather(Scene* scene, bool viscousExplicit)
 {
 	namespace vb = viscbridge;
 	compactOf.assign(scene->bodies->size(), -1);
@@ -33,9 +34,9 @@ void NetworkOfScene::gather(const Scene* scene, bool viscousExplicit)
 		op.key.push_back(b->getId()); // the start vector's noise follows the body, not the numbering
 		op.scale.push_back(scaleOf(*b->state));
 	}
-	const int vbIndex = ViscBridgePhys::getClassIndexStatic();
-	for (const auto& I : *scene->interactions) {
-		if (!I->isReal() || I->phys->getClassIndex() != vbIndex) continue;
+	// in the order of the bodies' ids (OrderedWetContacts): the same limit on any number of threads
+	orderedWetContacts(scene, [](const Interaction&, const ViscBridgePhys&) { return true; }, contacts);
+	for (const auto& [key, I] : contacts) {
 		const auto& ph = static_cast<const ViscBridgePhys&>(*I->phys);
 		const int   i1 = compactOf[I->getId1()], i2 = compactOf[I->getId2()];
 		if (i1 < 0 && i2 < 0) continue;

@@ -3,6 +3,9 @@
 #pragma once
 #include "viscbridge/core/timestep/NetworkSpectrum.hpp"
 #include <core/Scene.hpp>
+#include <cstdint>
+#include <utility>
+#include <vector>
 
 namespace yade {
 
@@ -10,8 +13,9 @@ struct NetworkOfScene {
 	viscbridge::NetworkOperator op;
 	std::vector<int>            compactOf; // body id → index in op (−1: no degrees of freedom)
 	std::vector<Body::id_t>     idOf;      // index in op → body id
+	std::vector<std::pair<std::uint64_t, Interaction*>> contacts; // gather()'s scratch
 	// Rebuilds op from the scene's interactions; viscousExplicit: whether bridges damp explicitly.
-	void gather(const Scene* scene, bool viscousExplicit);
+	void gather(Scene* scene, bool viscousExplicit);
 	// The mode as a vector of op from per-body-id storage, and back.
 	void modeFromIds(const std::vector<viscbridge::Vec6>& byId, viscbridge::VecX& mode) const;
 	void modeToIds(const viscbridge::VecX& mode, std::vector<viscbridge::Vec6>& byId) const;

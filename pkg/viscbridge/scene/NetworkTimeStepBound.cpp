@@ -1,4 +1,5 @@
 #include "viscbridge/scene/NetworkTimeStepBound.hpp"
+#include "viscbridge/yade/OrderedWetContacts.hpp"
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include "viscbridge/core/timestep/TimeStepBounds.hpp"
 #include <core/Scene.hpp>
@@ -16,23 +17,11 @@ void NetworkTimeStepBound::evaluate(Scene* sc, bool implicit, Real rayleighFract
 	namespace vb    = viscbridge;
 	const Real   inf = std::numeric_limits<Real>::infinity();
 	const size_t n   = sc->bodies->size();
-#ifdef YADE_OPENMP
-	const int threads = omp_get_max_threads();
-#else
-	const int threads = 1;
-#endif
-	// Per-thread sums (3 rates per body), reduced afterwards: the interaction loop runs in parallel
-	// without atomics.  Layout: [thread][body][rate].
-	rates.assign(static_cast<size_t>(threads) * n * 3, 0);
+	// Per body: the rates summed over its contacts in the order of their ids (OrderedWetContacts), so
+	// that the step is the same on any number of threads.
 	summed.assign(n * 3, 0);
-	const long nIntr = static_cast<long>(sc->interactions->size());
-	const int  vbIndex = ViscBridgePhys::getClassIndexStatic();
-#ifdef YADE_OPENMP
-#pragma omp parallel for schedule(static)
-#endif
-	for (long k = 0; k < nIntr; ++k) {
-		const Interaction* I = (*sc->interactions)[k].get();
-		if (!I->isReal() || I->phys->getClassIndex() != vbIndex) continue;
+	orderedWetContacts(sc, [](const Interaction&, const ViscBridgePhys&) { return true; }, contacts);
+	for (const auto& [key, I] : contacts) {
 		const auto*      ph  = static_cast<const ViscBridgePhys*>(I->phys.get());
 		const Body::id_t id1 = I->getId1(), id2 = I->getId2();
 		// 1/m_i + 1/m_j = 1/m* (a body that does not move under forces has 1/m = 0 in both):
@@ -43,15 +32,10 @@ void NetworkTimeStepBound::evaluate(Scene* sc, bool implicit, Real rayleighFract
 		const Real k = ph->kn + 3.5 * ph->ks + (ph->bridge ? ph->capillaryStiffness : 0);
 		const Real c = (ph->betan > 0 && ph->kn > 0) ? 2 * std::sqrt(ph->mEff) * (ph->betan * std::sqrt(ph->kn) + 3.5 * ph->betas * std::sqrt(ph->ks)) : 0;
 		const Real v = (ph->bridge && !implicit) ? ph->viscousStepCoefficient : 0;
-#ifdef YADE_OPENMP
-		Real* mine = &rates[static_cast<size_t>(omp_get_thread_num()) * n * 3];
-#else
-		Real* mine = &rates[0];
-#endif
 		for (Body::id_t id : { id1, id2 }) {
-			mine[3 * id] += k * mobility;
-			mine[3 * id + 1] += c * mobility;
-			mine[3 * id + 2] += v * mobility;
+			summed[3 * id] += k * mobility;
+			summed[3 * id + 1] += c * mobility;
+			summed[3 * id + 2] += v * mobility;
 		}
 	}
 
@@ -91,14 +75,7 @@ void NetworkTimeStepBound::evaluate(Scene* sc, bool implicit, Real rayleighFract
 		for (long id = 0; id < nBodies; ++id) {
 			const shared_ptr<Body>& b = (*sc->bodies)[id];
 			if (!b || !b->isDynamic() || !(b->state->mass > 0)) continue;
-			Real stiffness = 0, contactDamping = 0, damping = 0;
-			for (int t = 0; t < threads; ++t) {
-				const Real* r = &rates[(static_cast<size_t>(t) * n + id) * 3];
-				stiffness += r[0];
-				contactDamping += r[1];
-				damping += r[2];
-			}
-			summed[3 * id] = stiffness, summed[3 * id + 1] = contactDamping, summed[3 * id + 2] = damping;
+			const Real stiffness = summed[3 * id], contactDamping = summed[3 * id + 1], damping = summed[3 * id + 2];
 			Real own = vb::springLimit(stiffness);
 			if (contactDamping > 0) own = vb::networkLimit(contactDamping, stiffness);
 			myCollision          = std::min(myCollision, own);

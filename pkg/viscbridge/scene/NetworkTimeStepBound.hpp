@@ -3,6 +3,9 @@
 #pragma once
 #include <core/Body.hpp>
 #include <core/Scene.hpp>
+#include <cstdint>
+#include <utility>
+#include <vector>
 
 namespace yade {
 
@@ -11,8 +14,8 @@ struct NetworkTimeStepBound {
 	Real       collision = 0, viscous = 0, combined = 0; // [s], inf when nothing bounds them
 	Real       network = 0;                              // P14 of the interactions alone [s]
 	Body::id_t criticalBody = -1;
-	// per-thread, per-body rates of P14, kept to be reused between calls
-	std::vector<Real> rates;
+	// the contacts in the order of their bodies' ids, kept to be reused between calls
+	std::vector<std::pair<std::uint64_t, Interaction*>> contacts;
 	// the smallest rayleighFraction × T_R over the spheres, cached while the bodies stay the same
 	Real       rayleigh = 0, rayleighFractionUsed = -1;
 	Body::id_t rayleighBody = -1;

@@ -76,10 +76,15 @@ namespace {
 				                       ph.stepDampingRate(), ph.stepStiffnessRate() });
 		if (!lives) return false;
 		if constexpr (Imp) ph.implicitBlockIter = scene->iter;
-		scene->forces.addForce(id1, f.force1);
-		scene->forces.addForce(id2, -f.force1);
-		scene->forces.addTorque(id1, f.torque1);
-		scene->forces.addTorque(id2, f.torque2);
+		if (law.forcesSummedAfterLoop()) { // the same sums on any number of threads (YADE's per-thread force slots would depend on the schedule)
+			ph.sumForce1 = f.force1, ph.sumTorque1 = f.torque1, ph.sumTorque2 = f.torque2;
+			ph.sumIter   = scene->iter;
+		} else {
+			scene->forces.addForce(id1, f.force1);
+			scene->forces.addForce(id2, -f.force1);
+			scene->forces.addTorque(id1, f.torque1);
+			scene->forces.addTorque(id2, f.torque2);
+		}
 		// [MPI] an interaction shared by two ranks of yade.mpy is booked by one (always true serially)
 		if constexpr (E || Cm::booksWorkAlways)
 			if (distributed::ownershipThisStep(scene).interaction(*I, scene)) bookEnergy<Cm, E>(law, e);
@@ -141,7 +146,8 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::beginStep()
 				stepImplicit = false;
 				reportMissingSolver();
 			}
-			stepFilms = ViscBridgeContext::findEngine<FilmSource>(scene);
+			stepFilms  = ViscBridgeContext::findEngine<FilmSource>(scene);
+			stepSummed = ViscBridgeContext::hasEngineAfterLoop(scene, "ViscBridgeForceSum");
 			stepScene        = scene;
 			stepIter.store(scene->iter, std::memory_order_release);
 		}

@@ -22,6 +22,7 @@ class Law2_ScGeom_ViscBridgePhys_HertzViscous : public LawFunctor {
 	const Scene*                  stepScene = nullptr;
 	bool                          stepImplicit = false; // the scheme in use is implicit (SchemeChooser.hpp) and the solver is there
 	const FilmSource*             stepFilms = nullptr; // O.engines' ViscBridgeLiquid, if any
+	bool                          stepSummed = false;  // forcesSummedAfterLoop()
 	void                          beginStep();
 	void                          reportMissingSolver();
 	void                          reportMissingLiquidEngine();
@@ -41,6 +42,8 @@ public:
 	// ViscBridgeLiquid in O.engines).  The second covers the first step after O.load, when the
 	// physics' unsaved liquidModel still reads 'fixed' until the engine restores it after the loop.
 	bool formsFromFilms(const ViscBridgePhys& ph) const { return ph.constants.fromFilms || stepFilms; }
+	// This step, a ViscBridgeForceSum after the loop adds the forces to the bodies (held in the physics until then).
+	bool forcesSummedAfterLoop() const { return stepSummed; }
 
 	bool go(shared_ptr<IGeom>& geom, shared_ptr<IPhys>& phys, Interaction* interaction) override;
 	void postLoad(Law2_ScGeom_ViscBridgePhys_HertzViscous&);

@@ -1,6 +1,7 @@
 #include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/yade/SceneAttachment.hpp"
 #include <core/Engine.hpp>
+#include <core/InteractionLoop.hpp>
 #include <core/Omega.hpp>
 #include <pkg/dem/NewtonIntegrator.hpp>
 #include <lib/factory/ClassFactory.hpp>
@@ -30,6 +31,17 @@ bool ViscBridgeContext::hasEngine(const Scene* scene, const std::string& classNa
 {
 	for (const auto& e : scene->engines)
 		if (e->getClassName() == className) return true;
+	return false;
+}
+
+bool ViscBridgeContext::hasEngineAfterLoop(const Scene* scene, const std::string& className)
+{
+	bool afterLoop = false;
+	for (const auto& e : scene->engines) {
+		if (dynamic_cast<const InteractionLoop*>(e.get())) afterLoop = true;
+		else if (dynamic_cast<const NewtonIntegrator*>(e.get())) return false;
+		else if (afterLoop && !e->dead && e->getClassName() == className) return true;
+	}
 	return false;
 }
 

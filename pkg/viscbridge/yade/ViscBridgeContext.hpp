@@ -41,6 +41,9 @@ public:
 
 	// Whether O.engines has an engine of class `className` (by name: engines never know each other's classes).
 	static bool hasEngine(const Scene* scene, const std::string& className);
+	// Whether O.engines has a live engine of class `className` after the first InteractionLoop and
+	// before the first NewtonIntegrator (where an engine that sums or reads the loop's forces belongs).
+	static bool hasEngineAfterLoop(const Scene* scene, const std::string& className);
 	// The gravity NewtonIntegrator adds (zero without one).
 	static Vector3r newtonGravity(const Scene* scene);
 	// The first engine of O.engines that implements interface `Interface` (declared in this layer), or null.

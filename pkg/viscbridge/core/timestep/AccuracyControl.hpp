@@ -104,9 +104,10 @@ public:
 	// grows like Δt² on contact springs and like Δt on bridges' drift: the square root (the cautious
 	// one of the two when growing), with a margin; shrinking at most 5× at once (one rough step does
 	// not collapse the run); infinite while nothing changes.
-	double allowedStep(double lastDt, double tolerance) const
+	// `stableStep`: the stability limit's step [s] (A4b's least speed; 0: none known).
+	double allowedStep(double lastDt, double tolerance, double stableStep = 0) const
 	{
-		const double forOffset = offsetStep(lastDt, tolerance);
+		const double forOffset = offsetStep(lastDt, tolerance, stableStep);
 		if (!(controlledVelocity > 0)) return forOffset;
 		return std::min(forOffset, lastDt * std::max(0.2, controllerMargin * std::sqrt(calibration * localTolerance(tolerance) / controlledVelocity)));
 	}
@@ -147,10 +148,14 @@ public:
 	// A4b: the largest Δt_{n+1} = Δt_n + δ that keeps the free offsets, o + ½δa, within half the
 	// tolerance of the speed (their estimate is exact: no calibration; the other half is the rest's).
 	// None if no δ can (what is offset is offset: the error is made, a smaller step does not undo it).
-	double offsetStep(double lastDt, double tolerance) const
+	// The speed is at least what the free accelerations give in one step at the stability limit
+	// `stableStep`: from rest U → 0, and ½aΔt held to a vanishing U would shrink Δt without end (a
+	// drum's falling cloud went to 1e-11 s, where its positions no longer moved in double precision).
+	double offsetStep(double lastDt, double tolerance, double stableStep = 0) const
 	{
 		const double inf = std::numeric_limits<double>::infinity();
-		const double target = controllerMargin * 0.5 * tolerance * speedScale;
+		const double least  = std::isfinite(stableStep) && stableStep > 0 ? std::sqrt(accelerationSq) * stableStep : 0;
+		const double target = controllerMargin * 0.5 * tolerance * std::max(speedScale, least);
 		const double A = 0.25 * accelerationSq, B = offsetDotAcceleration, C = offsetSq - target * target;
 		const double disc = B * B - 4 * A * C;
 		if (!(A > 0) || !(disc >= 0)) return inf;

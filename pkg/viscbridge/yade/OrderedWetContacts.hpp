@@ -1,0 +1,36 @@
+// The scene's wet contacts (real interactions with a ViscBridgePhys) sorted by their bodies' ids.
+// YADE's interaction container holds them in the order the collider inserted them, which depends on
+// the number of threads; a per-body sum taken in that order differs in its last bits between runs,
+// and a bed with dry contacts grows such a difference into another trajectory.  Every sum over
+// contacts that reaches the motion (the time step, the implicit system, the error estimate) runs in
+// this order (docs/architecture.md, "Bit-identical on any number of threads").
+#pragma once
+#include "viscbridge/yade/ViscBridgePhys.hpp"
+#include <core/Scene.hpp>
+#include <algorithm>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace yade {
+
+// The contacts for which keep(interaction, physics) holds, ordered by (smaller id, larger id).  The
+// test runs on all threads; `out` is reused (no allocation once it has grown).
+template <class Keep> void orderedWetContacts(Scene* scene, Keep keep, std::vector<std::pair<std::uint64_t, Interaction*>>& out)
+{
+	InteractionContainer& all   = *scene->interactions;
+	const long            n     = static_cast<long>(all.size());
+	const int             index = ViscBridgePhys::getClassIndexStatic();
+	out.assign(n, { 0, nullptr });
+#pragma omp parallel for schedule(static)
+	for (long k = 0; k < n; ++k) {
+		Interaction& I = *all[k];
+		if (!I.isReal() || I.phys->getClassIndex() != index || !keep(I, static_cast<const ViscBridgePhys&>(*I.phys))) continue;
+		const auto lo = static_cast<std::uint64_t>(std::min(I.getId1(), I.getId2())), hi = static_cast<std::uint64_t>(std::max(I.getId1(), I.getId2()));
+		out[k] = { lo << 32 | hi, &I };
+	}
+	out.erase(std::remove_if(out.begin(), out.end(), [](const auto& e) { return !e.second; }), out.end());
+	std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+}
+
+} // namespace yade
