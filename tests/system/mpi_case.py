@@ -11,6 +11,8 @@ ranks, the initial kinetic energy and the bridges.  Options (after OUT):
   --mismatch      run 5 steps, then give rank 1 twice the dt and run on (must be refused)
   --no-decompose  leave every particle to the master (must be refused)
   --clump         add a clump of two wet spheres to worker 1 (must be refused: mpy has no clumps)
+  --moving-wall engine|velocity   a wall moved by a TranslationEngine, or with its velocity set (must be
+                  refused: mpy moves the master's bodies on the master only)
   --events        the test engine ViscBridgeEventCounter after the interaction loop (its counts per rank)
   --save FILE     rank 0 saves the merged scene at the end
   --load FILE     serially: load FILE (saved by --save), try a step (refused), viscbridge.mpi.to_serial(), run
@@ -39,6 +41,7 @@ ap.add_argument('--no-guard', action='store_true')
 ap.add_argument('--mismatch', action='store_true')
 ap.add_argument('--no-decompose', action='store_true')
 ap.add_argument('--clump', action='store_true')
+ap.add_argument('--moving-wall', choices=('engine', 'velocity'), default=None)
 ap.add_argument('--events', action='store_true')
 ap.add_argument('--save', default=None)
 ap.add_argument('--load', default=None)
@@ -76,6 +79,13 @@ def build():
         for b in O.bodies:
             if b.isClump or b.isClumpMember:
                 b.subdomain = 1
+    if args.moving_wall:
+        wall = next(b for b in O.bodies if not b.dynamic)
+        if args.moving_wall == 'engine':
+            newton = next(i for i, e in enumerate(O.engines) if isinstance(e, yw.NewtonIntegrator))
+            O.engines = O.engines[:newton] + [yw.TranslationEngine(ids=[wall.id], translationAxis=(0, 0, 1), velocity=1e-3)] + O.engines[newton:]
+        else:
+            wall.state.vel = (0, 0, 1e-3)
     O.engines = O.engines + [yw.PyRunner(iterPeriod=1, initRun=True, command='DTS.append(O.dt)', label='dtRecorder')]
 
 

@@ -227,6 +227,22 @@ def test_a_clump_is_refused_on_every_rank(integration):
         assert 'in one process' in results[0]['error']
 
 
+@pytest.mark.parametrize('how', ['engine', 'velocity'])
+def test_a_moving_wall_is_refused_on_every_rank(how):
+    """mpy moves the master's bodies on the master only: a wall a TranslationEngine drives (as the
+    drum's RotationEngine turns its facets), or one given a velocity, would stand still for the
+    workers' particles — a different answer without an error.  The first step stops on every rank,
+    naming the body and the alternative — 3 times in a row, none hanging."""
+    for attempt in range(3):
+        _cache.clear()
+        results = run_case_stopping_at_the_first_step(2, '--moving-wall', how, '--steps', '20')
+        for r in results:
+            assert r['iter'] == 0 and r['error'] == results[0]['error'], (attempt, results)
+        assert 'is a boundary that moves' in results[0]['error']
+        assert ('driven by a TranslationEngine' if how == 'engine' else 'its velocity is set') in results[0]['error']
+        assert 'OpenMP threads' in results[0]['error']
+
+
 def test_merged_scene_saved_and_run_on_serially(tmp_path):
     """150 steps on 3 ranks, merged and saved; loaded in one process the scene is refused (its
     particles belong to subdomains 1 and 2, which YADE's NewtonIntegrator would never move) until

@@ -100,6 +100,11 @@ namespace distributed {
 	// a subdomain's intersections): its members' copies on a neighbour would not follow it.
 	void refuseClumps(const Scene* scene);
 
+	// Split by yade.mpy: std::invalid_argument if a boundary (a body that is not dynamic) moves — a
+	// kinematic engine drives it or its velocity is set.  mpy moves the master's bodies on the master
+	// only: the workers' copies would stand still for their particles.
+	void refuseMovingBoundaries(const Scene* scene);
+
 	// When the scene is not split (serial, or merged by mpy.mergeScene()): std::invalid_argument if a
 	// moving body belongs to another subdomain than the scene's, since NewtonIntegrator (built with
 	// MPI) never moves such a body: a merged scene continued serially would silently freeze.

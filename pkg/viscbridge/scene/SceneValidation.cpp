@@ -146,6 +146,7 @@ void validateScene(const Scene* scene, bool checkDt)
 	validateTurningWalls(scene);
 	distributed::requireParticlesOnWorkers(scene);     // [MPI]
 	distributed::refuseClumps(scene);                  // [MPI]
+	distributed::refuseMovingBoundaries(scene);        // [MPI]
 	distributed::requireOneSubdomainWhenSerial(scene); // [MPI] e.g. a merged scene run on serially
 	if (!viscousIntegrationMayBeImplicit(scene)) return;
 	bool                    seenLoop = false, solverAfterLoop = false, newtonAfterSolver = false;
