@@ -5,10 +5,15 @@
 // rounding difference of one step grows, in a bed with dry contacts, into a different trajectory.
 #pragma once
 #include <core/GlobalEngine.hpp>
+#include <vector>
 
 namespace yade {
 
 class ViscBridgeForceSum : public GlobalEngine {
+	// workspace, kept between steps (no allocation once grown)
+	std::vector<Vector3r> force, torque;
+	std::vector<char>     touched;
+
 public:
 	void action() override;
 	// clang-format off

@@ -76,10 +76,9 @@ namespace {
 				                       ph.stepDampingRate(), ph.stepStiffnessRate() });
 		if (!lives) return false;
 		if constexpr (Imp) ph.implicitBlockIter = scene->iter;
-		if (law.forcesSummedAfterLoop()) { // the same sums on any number of threads (YADE's per-thread force slots would depend on the schedule)
-			ph.sumForce1 = f.force1, ph.sumTorque1 = f.torque1, ph.sumTorque2 = f.torque2;
-			ph.sumIter   = scene->iter;
-		} else {
+		if (law.forcesSummedAfterLoop()) // the same sums on any number of threads (YADE's per-thread force slots would depend on the schedule)
+			law.context->keepForce({ id1, id2, f.force1, f.torque1, f.torque2 });
+		else {
 			scene->forces.addForce(id1, f.force1);
 			scene->forces.addForce(id2, -f.force1);
 			scene->forces.addTorque(id1, f.torque1);

@@ -81,14 +81,54 @@ void ViscBridgeContext::beginStep(long iter)
 {
 	if (publishedIter == iter) return;
 #ifdef YADE_OPENMP
-	queues.resize(std::max(1, omp_get_max_threads()));
+	const size_t threads = std::max(1, omp_get_max_threads());
 #else
-	queues.resize(1);
+	const size_t threads = 1;
 #endif
+	queues.resize(threads);
+	forceQueues.resize(threads);
 	for (auto& q : queues)
 		q.clear();
+	for (auto& q : forceQueues)
+		q.clear();
 	publishedIter = iter;
-	mergedIter    = -1; // read before the loop of this step: read again
+	mergedIter = orderedIter = -1; // read before the loop of this step: read again
+}
+
+void ViscBridgeContext::keepForce(const ContactForce& force)
+{
+#ifdef YADE_OPENMP
+	forceQueues[omp_get_thread_num()].push_back(force);
+#else
+	forceQueues[0].push_back(force);
+#endif
+}
+
+const std::vector<const ContactForce*>& ViscBridgeContext::forces(long iter, size_t bodies)
+{
+	if (orderedIter == iter) return ordered;
+	// A counting sort by the smaller id (one pass to count, one to place: cheaper than a comparison
+	// sort of every contact), then each body's few contacts by the larger id.
+	ordered.clear();
+	firstOf.assign(bodies + 1, 0);
+	size_t total = 0;
+	if (publishedIter == iter)
+		for (const auto& q : forceQueues)
+			for (const ContactForce& f : q)
+				++firstOf[f.lowerId() + 1], ++total;
+	for (size_t i = 0; i < bodies; ++i)
+		firstOf[i + 1] += firstOf[i];
+	ordered.resize(total);
+	placed.assign(firstOf.begin(), firstOf.end() - 1);
+	if (publishedIter == iter)
+		for (const auto& q : forceQueues)
+			for (const ContactForce& f : q)
+				ordered[placed[f.lowerId()]++] = &f;
+	for (size_t i = 0; i < bodies; ++i)
+		std::sort(ordered.begin() + firstOf[i], ordered.begin() + firstOf[i + 1],
+		          [](const ContactForce* a, const ContactForce* b) { return a->higherId() < b->higherId(); });
+	orderedIter = iter;
+	return ordered;
 }
 
 void ViscBridgeContext::publish(const BridgeEvent& event)

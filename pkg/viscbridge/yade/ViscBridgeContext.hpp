@@ -14,6 +14,7 @@
 // scene; nothing of it is saved: a loaded scene starts with an empty one).
 #pragma once
 #include "viscbridge/yade/BridgeEvent.hpp"
+#include "viscbridge/yade/ContactForce.hpp"
 #include <core/Scene.hpp>
 #include <lib/base/openmp-accu.hpp>
 #include <lib/serialization/Serializable.hpp>
@@ -28,6 +29,11 @@ class ViscBridgeContext : public Serializable {
 	// events: one queue per thread for the step `publishedIter`, merged once into `merged`
 	std::vector<std::vector<BridgeEvent>> queues;
 	std::vector<BridgeEvent>              merged;
+	// contact forces: one queue per thread for the step `publishedIter`, ordered once into `ordered`
+	std::vector<std::vector<ContactForce>>       forceQueues;
+	std::vector<const ContactForce*>             ordered;
+	std::vector<size_t>                          firstOf, placed; // the counting sort's workspace
+	long                                         orderedIter = -1;
 	long                                  publishedIter = -1, mergedIter = -1;
 	std::string                           pendingError;
 	std::mutex                            pendingMutex;
@@ -95,6 +101,13 @@ public:
 	// its per-step critical section); publish() is then safe from any thread.
 	void beginStep(long iter);
 	void publish(const BridgeEvent& event);
+	// The forces of a wet contact this step, for ViscBridgeForceSum (the law calls it only while one
+	// is in place); safe from any thread, as publish().
+	void keepForce(const ContactForce& force);
+	// The forces kept in step `iter` (empty if none), sorted by (smaller id, larger id): the same
+	// sequence on any number of threads.  `bodies`: the scene's number of bodies (ids below it).
+	// For engines that run after InteractionLoop.
+	const std::vector<const ContactForce*>& forces(long iter, size_t bodies);
 	// The events of step `iter` (empty if none were published in it), sorted by (id1, id2, kind):
 	// the same list on any number of threads.  For engines that run after InteractionLoop.
 	const std::vector<BridgeEvent>& events(long iter);

@@ -22,11 +22,6 @@ public:
 	// implicitBlockIter, for ViscBridgeImplicitSolver (not saved: rebuilt every step).
 	viscbridge::ViscousBlock implicitBlock;
 	long                     implicitBlockIter = -1;
-	// With a ViscBridgeForceSum in the scene: what the law exerted in step sumIter (on body 1;
-	// body 2 takes −sumForce1 and sumTorque2), summed per body in an order that does not depend on
-	// the threads (not saved).
-	Vector3r sumForce1 = Vector3r::Zero(), sumTorque1 = Vector3r::Zero(), sumTorque2 = Vector3r::Zero();
-	long     sumIter = -1;
 	// [accuracy] The block the implicit solver used at step solvedIter, whose Δt was solvedDt: the
 	// change of the bridge's coefficients since then is an error of the step (physics.md A1c).
 	viscbridge::ViscousBlock solvedBlock;
