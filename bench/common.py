@@ -82,7 +82,7 @@ def engines(config):
     else:
         raise ValueError('unknown configuration %r' % config)
     # as viscbridge.engines() builds it: the law's forces summed per body after the loop, then the films
-    after = [yw.ViscBridgeForceSum()] + ([yw.ViscBridgeLiquid()] if getattr(ip2, 'liquidModel', None) == 'film' else [])
+    after = ([yw.ViscBridgeForceSum()] if config in vb else []) + ([yw.ViscBridgeLiquid()] if getattr(ip2, 'liquidModel', None) == 'film' else [])
     return [yw.ForceResetter(), yw.InsertionSortCollider([yw.Bo1_Sphere_Aabb(), yw.Bo1_Wall_Aabb()]),
             yw.InteractionLoop(loop_geoms, [ip2], [law])] + after + [yw.NewtonIntegrator(gravity=(0, 0, -9.81), damping=0.0)]
 

@@ -52,9 +52,13 @@ for n in sizes:
             common.load(path, config)
             O.run(20, True)  # interactions and bridges in place
             seconds = common.engine_seconds_per_step(steps)
+            # the share of ViscBridgeForceSum (the law's forces added in an order no thread count changes)
+            summing = sum(e.execTime for e in O.engines if type(e).__name__ == 'ViscBridgeForceSum')
+            shares.setdefault(config, []).append(summing / max(sum(e.execTime for e in O.engines), 1))
         print('  %d spheres, %-26s %10.1f µs/step' % (n, config, seconds * 1e6), flush=True)
         return seconds
 
+    shares = {}
     median, samples = common.interleaved(CONFIGS, measure)
     common.load(path, 'vb_all')
     O.run(20, True)
@@ -66,6 +70,7 @@ for n in sizes:
         print('%-28s %12.1f %8.3f' % (c, median[c] * 1e6, median[c] / base), flush=True)
         rows.append(dict(spheres=n, threads=O.numThreads, configuration=c, microseconds_per_step=median[c] * 1e6,
                          ratio_to_yade_mindlin=median[c] / base, contacts=bridges,
-                         slowest_microseconds_per_step=max(x for x in samples[c] if x == x) * 1e6, rounds=len(samples[c])))
+                         slowest_microseconds_per_step=max(x for x in samples[c] if x == x) * 1e6, rounds=len(samples[c]),
+                         force_sum_share_min=min(shares.get(c, [0])), force_sum_share_max=max(shares.get(c, [0]))))
 out = common.write_rows(os.path.join(common.RESULTS, 'law_cost_%dthreads.csv' % O.numThreads), rows)
 print('\nwritten', out)
