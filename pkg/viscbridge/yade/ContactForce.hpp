@@ -1,13 +1,16 @@
 // ContactForce: what a wet contact exerts in one step, kept by the law for ViscBridgeForceSum, which
-// adds it to the bodies in the order of key() (docs/architecture.md, "Bit-identical on any number of threads").
+// adds it to the bodies in the order of (lowerId, higherId) (docs/architecture.md, "Bit-identical on
+// any number of threads"); the same list gives OrderedWetContacts the step's contacts without a scan.
 #pragma once
 #include <core/Body.hpp>
+#include <core/Interaction.hpp>
 #include <algorithm>
 
 namespace yade {
 
 struct ContactForce {
-	Body::id_t id1, id2;
+	Interaction* interaction;
+	Body::id_t   id1, id2;
 	Vector3r   force1, torque1, torque2; // on body 1; body 2 takes −force1 and torque2
 	// the order of the sums: by the smaller id, then the larger
 	size_t lowerId() const { return static_cast<size_t>(std::min(id1, id2)); }

@@ -77,7 +77,7 @@ namespace {
 		if (!lives) return false;
 		if constexpr (Imp) ph.implicitBlockIter = scene->iter;
 		if (law.forcesSummedAfterLoop()) // the same sums on any number of threads (YADE's per-thread force slots would depend on the schedule)
-			law.context->keepForce({ id1, id2, f.force1, f.torque1, f.torque2 });
+			law.context->keepForce({ I, id1, id2, f.force1, f.torque1, f.torque2 });
 		else {
 			scene->forces.addForce(id1, f.force1);
 			scene->forces.addForce(id2, -f.force1);
@@ -138,15 +138,15 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::beginStep()
 #endif
 	{
 		if (stepIter.load(std::memory_order_relaxed) != scene->iter || stepScene != scene) {
-			context = ViscBridgeContext::shared(scene);
-			context->beginStep(scene->iter);
+			context    = ViscBridgeContext::shared(scene);
+			stepSummed = ViscBridgeContext::hasEngineAfterLoop(scene, "ViscBridgeForceSum");
+			context->beginStep(scene->iter, stepSummed);
 			stepImplicit = integrationInUse(scene, integrationIndex) == vb::Integration::implicitEuler;
 			if (stepImplicit && !ViscBridgeContext::hasEngine(scene, "ViscBridgeImplicitSolver")) {
 				stepImplicit = false;
 				reportMissingSolver();
 			}
 			stepFilms  = ViscBridgeContext::findEngine<FilmSource>(scene);
-			stepSummed = ViscBridgeContext::hasEngineAfterLoop(scene, "ViscBridgeForceSum");
 			stepScene        = scene;
 			stepIter.store(scene->iter, std::memory_order_release);
 		}

@@ -5,6 +5,7 @@
 // contacts that reaches the motion (the time step, the implicit system, the error estimate) runs in
 // this order (docs/architecture.md, "Bit-identical on any number of threads").
 #pragma once
+#include "viscbridge/yade/ViscBridgeContext.hpp"
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include <core/Scene.hpp>
 #include <algorithm>
@@ -18,6 +19,18 @@ namespace yade {
 // test runs on all threads; `out` is reused (no allocation once it has grown).
 template <class Keep> void orderedWetContacts(Scene* scene, Keep keep, std::vector<std::pair<std::uint64_t, Interaction*>>& out)
 {
+	// After the loop of a step whose law kept every contact's forces (ViscBridgeForceSum): that list,
+	// already in this order, instead of a scan of every interaction
+	ViscBridgeContext& context = ViscBridgeContext::of(scene);
+	if (context.keptEveryContact(scene->iter)) {
+		out.clear();
+		for (const ContactForce* f : context.forces(scene->iter, scene->bodies->size())) {
+			Interaction& I = *f->interaction;
+			if (I.isReal() && keep(I, static_cast<const ViscBridgePhys&>(*I.phys)))
+				out.push_back({ static_cast<std::uint64_t>(f->lowerId()) << 32 | f->higherId(), &I });
+		}
+		return;
+	}
 	InteractionContainer& all   = *scene->interactions;
 	const long            n     = static_cast<long>(all.size());
 	const int             index = ViscBridgePhys::getClassIndexStatic();

@@ -77,9 +77,10 @@ std::string ViscBridgeContext::takePendingError()
 	return msg;
 }
 
-void ViscBridgeContext::beginStep(long iter)
+void ViscBridgeContext::beginStep(long iter, bool keepsForces)
 {
 	if (publishedIter == iter) return;
+	forcesKept = keepsForces;
 #ifdef YADE_OPENMP
 	const size_t threads = std::max(1, omp_get_max_threads());
 #else

@@ -35,6 +35,7 @@ class ViscBridgeContext : public Serializable {
 	std::vector<size_t>                          firstOf, placed; // the counting sort's workspace
 	long                                         orderedIter = -1;
 	long                                  publishedIter = -1, mergedIter = -1;
+	bool                                  forcesKept = false; // in step publishedIter
 	std::string                           pendingError;
 	std::mutex                            pendingMutex;
 	std::set<std::string>                 warned; // the plausibility warnings said in this scene
@@ -99,7 +100,8 @@ public:
 
 	// Events.  beginStep() must run once per step before the first publish() (the law does it under
 	// its per-step critical section); publish() is then safe from any thread.
-	void beginStep(long iter);
+	// `keepsForces`: the law keeps every wet contact's forces this step (keepForce), for ViscBridgeForceSum.
+	void beginStep(long iter, bool keepsForces = false);
 	void publish(const BridgeEvent& event);
 	// The forces of a wet contact this step, for ViscBridgeForceSum (the law calls it only while one
 	// is in place); safe from any thread, as publish().
@@ -108,6 +110,8 @@ public:
 	// sequence on any number of threads.  `bodies`: the scene's number of bodies (ids below it).
 	// For engines that run after InteractionLoop.
 	const std::vector<const ContactForce*>& forces(long iter, size_t bodies);
+	// Whether forces(iter, …) lists every wet contact of step `iter` (the law kept them all).
+	bool keptEveryContact(long iter) const { return publishedIter == iter && forcesKept; }
 	// The events of step `iter` (empty if none were published in it), sorted by (id1, id2, kind):
 	// the same list on any number of threads.  For engines that run after InteractionLoop.
 	const std::vector<BridgeEvent>& events(long iter);
