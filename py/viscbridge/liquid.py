@@ -93,12 +93,16 @@ def film(id):
 def in_films():
     """The liquid in all films [m³]."""
     from yade import O
+    from .mpi import require_whole_scene
+    require_whole_scene('viscbridge.liquid')
     return math.fsum(getattr(b.state, 'film', 0.0) for b in O.bodies if b is not None)
 
 
 def _bridges():
     from yade import O
     import yade.wrapper as yw
+    from .mpi import require_whole_scene
+    require_whole_scene('viscbridge.liquid')
     return [i for i in O.interactions if i.isReal and isinstance(i.phys, yw.ViscBridgePhys) and i.phys.bridge]
 
 

@@ -24,7 +24,7 @@ should own no moving particle (mpy never sends their states to the workers).
 import os
 import sys
 
-__all__ = ['ranks', 'rank', 'decompose', 'absolute_verlet_distance', 'energy', 'energy_total', 'to_serial']
+__all__ = ['ranks', 'rank', 'decompose', 'absolute_verlet_distance', 'energy', 'energy_total', 'to_serial', 'require_whole_scene']
 
 
 def _launched_by_mpiexec():
@@ -53,6 +53,17 @@ def rank():
     """This process's rank (0 when serial; 0 is mpy's master)."""
     mp = _mpy()
     return mp.rank if mp else 0
+
+
+def require_whole_scene(func):
+    """RuntimeError naming `func` while this rank holds only its share of a scene split by yade.mpy:
+    a measure over the scene's bodies or interactions would be this rank's part of it (a different
+    answer without an error).  After ``mp.mpirun(..., withMerge=True)`` rank 0 holds the whole scene."""
+    from yade import O
+    if getattr(O, 'splitted', False) and ranks() > 1:
+        raise RuntimeError('%s: the scene is split over the %d ranks of yade.mpy, and rank %d sees only its own bodies and '
+                           'interactions; measure the merged scene instead: mp.mpirun(..., withMerge=True), then call it on rank 0'
+                           % (func, ranks(), rank()))
 
 
 def absolute_verlet_distance():

@@ -92,6 +92,8 @@ def _cells(piece, tag, sizes):
 
 def write_bridges(path, only_bridges=False):
     """Write the current ViscBridge interactions of O to `path` (.vtp); returns their number."""
+    from .mpi import require_whole_scene
+    require_whole_scene('viscbridge.vtk.write_bridges')
     rows = _bridges(only_bridges)
     root, piece = _piece(points=2 * len(rows), lines=len(rows))
     _array(ET.SubElement(piece, 'Points'), 'Points', [c for a, b, _, _ in rows for c in (*a, *b)], 3)
@@ -123,6 +125,8 @@ def write_particles(path):
     ``agglomerate`` (label of its agglomerate, 0 = largest; -1 for a sphere that is not a member:
     fixed) and ``id``; returns their number.  In ParaView: Glyph (sphere, scale by radius) coloured
     by liquid or agglomerate."""
+    from .mpi import require_whole_scene
+    require_whole_scene('viscbridge.vtk.write_particles')
     from yade import O
     import yade.wrapper as yw
     from . import liquid

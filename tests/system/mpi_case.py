@@ -13,6 +13,8 @@ ranks, the initial kinetic energy and the bridges.  Options (after OUT):
   --clump         add a clump of two wet spheres to worker 1 (must be refused: mpy has no clumps)
   --moving-wall engine|velocity   a wall moved by a TranslationEngine, or with its velocity set (must be
                   refused: mpy moves the master's bodies on the master only)
+  --measure-split run without merging, then call the scene's measures (agglomerates, liquid, VTK) on
+                  every rank (each must refuse: a rank holds only its share)
   --events        the test engine ViscBridgeEventCounter after the interaction loop (its counts per rank)
   --save FILE     rank 0 saves the merged scene at the end
   --load FILE     serially: load FILE (saved by --save), try a step (refused), viscbridge.mpi.to_serial(), run
@@ -43,6 +45,7 @@ ap.add_argument('--no-decompose', action='store_true')
 ap.add_argument('--clump', action='store_true')
 ap.add_argument('--moving-wall', choices=('engine', 'velocity'), default=None)
 ap.add_argument('--events', action='store_true')
+ap.add_argument('--measure-split', action='store_true')
 ap.add_argument('--save', default=None)
 ap.add_argument('--load', default=None)
 args = ap.parse_args(sys.argv[1:])
@@ -118,7 +121,21 @@ if args.load:  # a merged scene runs on serially only once it is made serial aga
 guards = [e for e in O.engines if isinstance(e, yw.ViscBridgeGuard)]
 error_before = guards[0].lastError if guards else ''
 try:
-    if args.mismatch:
+    if args.measure_split:
+        mp.mpirun(args.steps, mp.numThreads, withMerge=False)
+        import viscbridge.liquid as liquid
+        import viscbridge.vtk as vtk
+        refused = {}
+        for name, call in (('agglomerates', viscbridge.agglomerates), ('total', liquid.total),
+                           ('distribution', liquid.distribution), ('write_particles', lambda: vtk.write_particles(args.out + '.vtp'))):
+            try:
+                call()
+                refused[name] = None
+            except RuntimeError as error:
+                refused[name] = str(error)
+        result['refused'] = refused
+        mp.mergeScene()  # so that every rank ends together
+    elif args.mismatch:
         run(5)
         if me == 1:
             O.dt *= 2

@@ -243,6 +243,20 @@ def test_a_moving_wall_is_refused_on_every_rank(how):
         assert 'OpenMP threads' in results[0]['error']
 
 
+def test_the_scenes_measures_refuse_a_split_scene():
+    """While the scene is split (after mp.mpirun without merging), a rank holds only its share of the
+    bodies and interactions: agglomerates, the liquid's totals and the VTK writers refuse on every
+    rank, naming the function and what to do, instead of answering for one rank's part."""
+    results = run_case(3, '--measure-split', '--steps', '20')
+    assert [r['rank'] for r in results] == [0, 1, 2]
+    for r in results:
+        assert r['error'] is None, r
+        for name, message in r['refused'].items():
+            assert message and 'split over the 3 ranks of yade.mpy' in message and 'withMerge=True' in message, (name, r)
+    assert 'viscbridge.agglomerates' in results[1]['refused']['agglomerates']
+    assert 'viscbridge.vtk.write_particles' in results[2]['refused']['write_particles']
+
+
 def test_merged_scene_saved_and_run_on_serially(tmp_path):
     """150 steps on 3 ranks, merged and saved; loaded in one process the scene is refused (its
     particles belong to subdomains 1 and 2, which YADE's NewtonIntegrator would never move) until

@@ -125,6 +125,8 @@ def edges_of_scene(min_force=0.0, min_volume=0.0):
     from yade import O
     import yade.wrapper as yw
     from .. import liquid
+    from ..mpi import require_whole_scene
+    require_whole_scene('viscbridge.agglomerates')
     node = {b.id: _node(b) for b in O.bodies if b is not None}
     members = sorted({m for m in node.values() if m is not None})
     index = {m: k for k, m in enumerate(members)}
