@@ -373,8 +373,8 @@ namespace distributed {
 			throw std::invalid_argument(
 			        "Body #" + std::to_string(id) + " is a boundary that moves (" + how
 			        + ") in a scene split by yade.mpy: mpy moves the master's bodies on the master only, and the workers' copies stay where "
-			          "they were, so the particles there would meet a wall that is not where it is (the product's drum on 2 ranks ended with "
-			          "its bed's centre 0.8 mm from the serial run's, without an error). Run scenes with moving walls or a turning drum in "
+			          "they were, so the particles there would meet a wall that is not where it is (the product's drum on 2 ranks so ends with "
+			          "its bed's centre 0.8 mm from the serial run's, with no error). Run scenes with moving walls or a turning drum in "
 			          "one process with OpenMP threads (yade -j N; the run is bit-identical on any number of threads).");
 		};
 		for (const auto& e : scene->engines) {

@@ -1,5 +1,5 @@
 // ViscBridgeForceSum: adds the forces of the step's wet contacts to their bodies in an order fixed by
-// the bodies' ids, so that a run gives the same bits on any number of threads (docs/architecture.md, "One YADE step").
+// the bodies' ids, so that a run gives the same bits on any number of threads (docs/architecture.md, "Bit-identical on any number of threads").
 // YADE's InteractionLoop hands interactions to threads on demand (guided schedule) and each thread
 // adds into its own force slot; the slots' sum then depends on which thread took which contact, and a
 // rounding difference of one step grows, in a bed with dry contacts, into a different trajectory.

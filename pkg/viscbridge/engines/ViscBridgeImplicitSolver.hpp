@@ -2,7 +2,6 @@
 // network (physics.md §4, P15), between InteractionLoop and NewtonIntegrator.
 #pragma once
 #include <array>
-#include <cstdint>
 #include <limits>
 #include <core/Body.hpp>
 #include <core/GlobalEngine.hpp>
@@ -10,6 +9,7 @@
 #include "viscbridge/core/linalg/LaggedPreconditioner.hpp"
 #include "viscbridge/core/models/EnergyKeys.hpp"
 #include "viscbridge/yade/AttributeRollback.hpp"
+#include "viscbridge/yade/ContactForce.hpp"
 #include "viscbridge/yade/StepErrorSource.hpp"
 #include <lib/base/openmp-accu.hpp>
 
@@ -50,7 +50,7 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	Vector3r                      armInClump(Body::id_t id) const;
 	std::vector<int>              touched; // workspace of gather(): per body id, its index in the system (−1: none)
 	// workspace of describedBridges(): the bridges described this step, by their bodies' ids (OrderedWetContacts)
-	mutable std::vector<std::pair<std::uint64_t, Interaction*>> described;
+	mutable OrderedContacts       described;
 	Eigen::VectorXd               warmStartGuess(const viscbridge::ImplicitViscousSystem& sys, const std::vector<Body::id_t>& ids) const;
 	const viscbridge::Preconditioner* refreshPreconditioner(const viscbridge::ImplicitViscousSystem& sys, const std::vector<long>& pattern);
 	std::string                       automaticKind(const viscbridge::ImplicitViscousSystem& sys) const;

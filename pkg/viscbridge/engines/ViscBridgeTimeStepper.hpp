@@ -4,6 +4,7 @@
 #include "viscbridge/scene/NetworkOfScene.hpp"
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include "viscbridge/yade/AttributeRollback.hpp"
+#include "viscbridge/yade/ContactForce.hpp"
 #include "viscbridge/scene/NetworkTimeStepBound.hpp"
 #include "viscbridge/core/timestep/AccuracyControl.hpp"
 #include "viscbridge/yade/SchemeChooser.hpp"
@@ -51,7 +52,7 @@ class ViscBridgeTimeStepper : public TimeStepper, public SchemeChooser {
 	std::vector<char>             carryStaged;   // per body id: in explicitCarried (workspace)
 	std::vector<Vector3r>         carryChange;   // per body id: −Δt⁻¹ m × the network's relaxation of its error (workspace)
 	std::vector<Real>             liveDamping;   // per body id: its bridges' Σ C^n(S)/m* at their gaps now (workspace)
-	std::vector<std::pair<std::uint64_t, Interaction*>> carryContacts; // its bridges, by their bodies' ids (OrderedWetContacts)
+	OrderedContacts               carryContacts; // its bridges, by their bodies' ids (OrderedWetContacts)
 	void                          stageExplicitCarry(size_t id, const Vector3r& dv, Vector3r& carried, Vector3r& shifted);
 	void                          carryExplicit(Scene*, Real& carriedSq, Real& shiftedSq, Real& freshSq);
 	void                          resumeOffsets(Scene*);

@@ -2,9 +2,8 @@
 // one NetworkPair per interaction that damps or stiffens, from the same constants the law uses.
 #pragma once
 #include "viscbridge/core/timestep/NetworkSpectrum.hpp"
+#include "viscbridge/yade/ContactForce.hpp"
 #include <core/Scene.hpp>
-#include <cstdint>
-#include <utility>
 #include <vector>
 
 namespace yade {
@@ -13,7 +12,7 @@ struct NetworkOfScene {
 	viscbridge::NetworkOperator op;
 	std::vector<int>            compactOf; // body id → index in op (−1: no degrees of freedom)
 	std::vector<Body::id_t>     idOf;      // index in op → body id
-	std::vector<std::pair<std::uint64_t, Interaction*>> contacts; // gather()'s scratch
+	OrderedContacts             contacts;  // gather()'s scratch
 	// Rebuilds op from the scene's interactions; viscousExplicit: whether bridges damp explicitly.
 	void gather(Scene* scene, bool viscousExplicit);
 	// The mode as a vector of op from per-body-id storage, and back.

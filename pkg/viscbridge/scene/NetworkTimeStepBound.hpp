@@ -3,8 +3,7 @@
 #pragma once
 #include <core/Body.hpp>
 #include <core/Scene.hpp>
-#include <cstdint>
-#include <utility>
+#include "viscbridge/yade/ContactForce.hpp"
 #include <vector>
 
 namespace yade {
@@ -15,7 +14,7 @@ struct NetworkTimeStepBound {
 	Real       network = 0;                              // P14 of the interactions alone [s]
 	Body::id_t criticalBody = -1;
 	// the contacts in the order of their bodies' ids, kept to be reused between calls
-	std::vector<std::pair<std::uint64_t, Interaction*>> contacts;
+	OrderedContacts contacts;
 	// the smallest rayleighFraction × T_R over the spheres, cached while the bodies stay the same
 	Real       rayleigh = 0, rayleighFractionUsed = -1;
 	Body::id_t rayleighBody = -1;

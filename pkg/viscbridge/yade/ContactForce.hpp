@@ -5,6 +5,9 @@
 #include <core/Body.hpp>
 #include <core/Interaction.hpp>
 #include <algorithm>
+#include <cstdint>
+#include <utility>
+#include <vector>
 
 namespace yade {
 
@@ -16,5 +19,13 @@ struct ContactForce {
 	size_t lowerId() const { return static_cast<size_t>(std::min(id1, id2)); }
 	size_t higherId() const { return static_cast<size_t>(std::max(id1, id2)); }
 };
+
+// The order of contacts every sum over them follows: (smaller id, larger id) as one number.
+inline std::uint64_t contactOrderKey(Body::id_t a, Body::id_t b)
+{
+	return static_cast<std::uint64_t>(std::min(a, b)) << 32 | static_cast<std::uint64_t>(std::max(a, b));
+}
+// Contacts with their keys, in that order (OrderedWetContacts).
+using OrderedContacts = std::vector<std::pair<std::uint64_t, Interaction*>>;
 
 } // namespace yade

@@ -146,7 +146,7 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::beginStep()
 				stepImplicit = false;
 				reportMissingSolver();
 			}
-			stepFilms  = ViscBridgeContext::findEngine<FilmSource>(scene);
+			stepFilms    = ViscBridgeContext::findEngine<FilmSource>(scene);
 			stepScene        = scene;
 			stepIter.store(scene->iter, std::memory_order_release);
 		}

@@ -42,7 +42,7 @@ public:
 	// ViscBridgeLiquid in O.engines).  The second covers the first step after O.load, when the
 	// physics' unsaved liquidModel still reads 'fixed' until the engine restores it after the loop.
 	bool formsFromFilms(const ViscBridgePhys& ph) const { return ph.constants.fromFilms || stepFilms; }
-	// This step, a ViscBridgeForceSum after the loop adds the forces to the bodies (held in the physics until then).
+	// This step, a ViscBridgeForceSum after the loop adds the forces to the bodies (kept in the context until then).
 	bool forcesSummedAfterLoop() const { return stepSummed; }
 
 	bool go(shared_ptr<IGeom>& geom, shared_ptr<IPhys>& phys, Interaction* interaction) override;

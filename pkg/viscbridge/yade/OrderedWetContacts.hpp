@@ -9,15 +9,12 @@
 #include "viscbridge/yade/ViscBridgePhys.hpp"
 #include <core/Scene.hpp>
 #include <algorithm>
-#include <cstdint>
-#include <utility>
-#include <vector>
 
 namespace yade {
 
 // The contacts for which keep(interaction, physics) holds, ordered by (smaller id, larger id).  The
 // test runs on all threads; `out` is reused (no allocation once it has grown).
-template <class Keep> void orderedWetContacts(Scene* scene, Keep keep, std::vector<std::pair<std::uint64_t, Interaction*>>& out)
+template <class Keep> void orderedWetContacts(Scene* scene, Keep keep, OrderedContacts& out)
 {
 	// After the loop of a step whose law kept every contact's forces (ViscBridgeForceSum): that list,
 	// already in this order, instead of a scan of every interaction
@@ -27,7 +24,7 @@ template <class Keep> void orderedWetContacts(Scene* scene, Keep keep, std::vect
 		for (const ContactForce* f : context.forces(scene->iter, scene->bodies->size())) {
 			Interaction& I = *f->interaction;
 			if (I.isReal() && keep(I, static_cast<const ViscBridgePhys&>(*I.phys)))
-				out.push_back({ static_cast<std::uint64_t>(f->lowerId()) << 32 | f->higherId(), &I });
+				out.push_back({ contactOrderKey(f->id1, f->id2), &I });
 		}
 		return;
 	}
@@ -39,8 +36,7 @@ template <class Keep> void orderedWetContacts(Scene* scene, Keep keep, std::vect
 	for (long k = 0; k < n; ++k) {
 		Interaction& I = *all[k];
 		if (!I.isReal() || I.phys->getClassIndex() != index || !keep(I, static_cast<const ViscBridgePhys&>(*I.phys))) continue;
-		const auto lo = static_cast<std::uint64_t>(std::min(I.getId1(), I.getId2())), hi = static_cast<std::uint64_t>(std::max(I.getId1(), I.getId2()));
-		out[k] = { lo << 32 | hi, &I };
+		out[k] = { contactOrderKey(I.getId1(), I.getId2()), &I };
 	}
 	out.erase(std::remove_if(out.begin(), out.end(), [](const auto& e) { return !e.second; }), out.end());
 	std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });

@@ -96,14 +96,7 @@ void ViscBridgeContext::beginStep(long iter, bool keepsForces)
 	mergedIter = orderedIter = -1; // read before the loop of this step: read again
 }
 
-void ViscBridgeContext::keepForce(const ContactForce& force)
-{
-#ifdef YADE_OPENMP
-	forceQueues[omp_get_thread_num()].push_back(force);
-#else
-	forceQueues[0].push_back(force);
-#endif
-}
+void ViscBridgeContext::keepForce(const ContactForce& force) { ownQueue(forceQueues).push_back(force); }
 
 const std::vector<const ContactForce*>& ViscBridgeContext::forces(long iter, size_t bodies)
 {
@@ -132,14 +125,7 @@ const std::vector<const ContactForce*>& ViscBridgeContext::forces(long iter, siz
 	return ordered;
 }
 
-void ViscBridgeContext::publish(const BridgeEvent& event)
-{
-#ifdef YADE_OPENMP
-	queues[omp_get_thread_num()].push_back(event);
-#else
-	queues[0].push_back(event);
-#endif
-}
+void ViscBridgeContext::publish(const BridgeEvent& event) { ownQueue(queues).push_back(event); }
 
 const std::vector<BridgeEvent>& ViscBridgeContext::events(long iter)
 {

@@ -39,6 +39,15 @@ class ViscBridgeContext : public Serializable {
 	std::string                           pendingError;
 	std::mutex                            pendingMutex;
 	std::set<std::string>                 warned; // the plausibility warnings said in this scene
+	// this thread's queue of a per-thread set (sized by beginStep)
+	template <class T> static std::vector<T>& ownQueue(std::vector<std::vector<T>>& perThread)
+	{
+#ifdef YADE_OPENMP
+		return perThread[omp_get_thread_num()];
+#else
+		return perThread[0];
+#endif
+	}
 
 public:
 	// The scene's context, created in scene->miscParams on first use.  Not thread-safe: called from
