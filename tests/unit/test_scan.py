@@ -67,14 +67,27 @@ def test_case_failures_are_read_from_the_case_logs(tmp_path):
     key = scan.case_key
     (tmp_path / ('case-%s.log' % key(a))).write_text('Running script\nTraceback (most recent call last):\n'
                                                     '  File "x.py", line 1\nValueError: planted\nYade: bye\n')
-    (tmp_path / ('case-%s.log' % key(c))).write_text('Running script\nSegmentation fault\n')
+    (tmp_path / ('case-%s.log' % key(c))).write_text('Running script\nSegmentation fault\n\n=== JOB SUMMARY ===\n'
+                                                    'status  : 35584 (FAILED)\nfinished: Mon Dec  7 21:16:09 2026\n')
     failed = {key(case): error for case, error in scan._failures([a, b, c], {key(c)}, {key(c)}, str(tmp_path))}
     assert failed[key(a)] == 'ValueError: planted'                        # no result line
     assert failed[key(b)].startswith('not started')                      # no result, no log
-    assert failed[key(c)] == 'wrote its result, then failed: Segmentation fault'  # reported FAILED
+    assert failed[key(c)] == ('wrote its result, then failed: Segmentation fault (no error in its log; '
+                              'yade-batch status 35584 (FAILED))')  # reported FAILED
     message = str(scan.CasesFailed([(a, failed[key(a)]), (b, failed[key(b)])], str(tmp_path)))
     assert message.startswith('2 case(s) failed') and key(a) in message and 'viscosity=2.0' in message
 
+
+def test_an_engine_error_yade_did_not_pass_on_is_read_from_its_fatal_message(tmp_path):
+    """YADE's O.wait() can miss an exception thrown at the first step: the log then has only YADE's
+    FATAL line with the message on the next line, and yade-batch's job summary after it."""
+    case = scan.normalize_case(dict(viscosity=1.0))
+    (tmp_path / ('case-%s.log' % scan.case_key(case))).write_text(
+        'Running script job.py\n<FATAL ERROR> ThreadRunner:35 void yade::ThreadRunner::run(): Exception occured: \n'
+        "Ip2.tangentialModel='washino' is not dissipative\n\n=================== JOB SUMMARY ================\n"
+        'status  : 0 (OK)\nfinished: Mon Dec  7 21:16:09 2026\n')
+    [(_, error)] = scan._failures([case], set(), set(), str(tmp_path))
+    assert error == "Ip2.tangentialModel='washino' is not dissipative"
 
 # --- the command line ----------------------------------------------------------------------------
 

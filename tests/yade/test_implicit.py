@@ -188,6 +188,12 @@ def test_washino_cannot_be_implicit(run_error):
     O.dt = 1e-8
     assert re.search("washino.*not dissipative", run_error(3))  # and set afterwards: before the first step
     assert O.iter == 0
+    ip2 = next(e for e in O.engines if isinstance(e, yw.InteractionLoop)).physDispatcher.functors[0]
+    ip2.tangentialModel = 'goldman'
+    O.run(3, True)
+    ip2.tangentialModel = 'washino'  # and between two runs
+    assert re.search("washino.*not dissipative", run_error(3))
+    assert O.iter == 3
 
 
 def test_solver_parameters_are_validated():

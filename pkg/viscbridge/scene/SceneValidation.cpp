@@ -121,10 +121,17 @@ size_t sceneSignature(const Scene* scene)
 		boost::hash_combine(h, static_cast<const void*>(e.get()));
 		const auto* loop = dynamic_cast<const InteractionLoop*>(e.get());
 		if (!loop) continue;
-		for (const auto& f : loop->physDispatcher->functors)
+		// the functors, and the models and scheme they were set to (a model changed between runs
+		// may be one the implicit scheme refuses)
+		for (const auto& f : loop->physDispatcher->functors) {
 			boost::hash_combine(h, static_cast<const void*>(f.get()));
-		for (const auto& f : loop->lawDispatcher->functors)
+			if (const auto* ip2 = dynamic_cast<const Ip2_FrictMat_FrictMat_ViscBridgePhys*>(f.get()))
+				boost::hash_combine(h, viscbridge::comboIndex(ip2->selection));
+		}
+		for (const auto& f : loop->lawDispatcher->functors) {
 			boost::hash_combine(h, static_cast<const void*>(f.get()));
+			if (const auto* law = dynamic_cast<const Law2_ScGeom_ViscBridgePhys_HertzViscous*>(f.get())) boost::hash_combine(h, law->integrationIndex);
+		}
 	}
 	return h;
 }

@@ -17,8 +17,8 @@ struct ViscBridgeFunctors {
 };
 ViscBridgeFunctors findViscBridgeFunctors(const Scene* scene);
 
-// Changes whenever bodies, materials, engines or the functors of an InteractionLoop change (not
-// when a body is moved): the validation below is redone then.
+// Changes whenever bodies, materials, engines, the functors of an InteractionLoop or their models
+// and scheme change (not when a body is moved): the validation below is redone then.
 size_t sceneSignature(const Scene* scene);
 
 // Throws std::invalid_argument (a Python ValueError) naming the offending parameter or body.

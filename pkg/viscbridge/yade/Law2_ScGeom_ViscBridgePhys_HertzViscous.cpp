@@ -131,13 +131,14 @@ void Law2_ScGeom_ViscBridgePhys_HertzViscous::postLoad(Law2_ScGeom_ViscBridgePhy
 
 void Law2_ScGeom_ViscBridgePhys_HertzViscous::beginStep()
 {
-	// Once per step: the first interaction of the step does it, the others wait.
-	if (stepIter.load(std::memory_order_acquire) == scene->iter && stepScene == scene) return;
+	// Once per loop pass: the first interaction of the pass does it, the others wait.  A step YADE
+	// repeats after an exception has the same iter: the context says its pass is new.
+	if (stepIter.load(std::memory_order_acquire) == scene->iter && stepScene == scene && context->passOpen(scene->iter)) return;
 #ifdef YADE_OPENMP
 #pragma omp critical(viscbridge_law_step)
 #endif
 	{
-		if (stepIter.load(std::memory_order_relaxed) != scene->iter || stepScene != scene) {
+		if (stepIter.load(std::memory_order_relaxed) != scene->iter || stepScene != scene || !context->passOpen(scene->iter)) {
 			context    = ViscBridgeContext::shared(scene);
 			stepSummed = ViscBridgeContext::hasEngineAfterLoop(scene, "ViscBridgeForceSum");
 			context->beginStep(scene->iter, stepSummed);

@@ -79,7 +79,7 @@ std::string ViscBridgeContext::takePendingError()
 
 void ViscBridgeContext::beginStep(long iter, bool keepsForces)
 {
-	if (publishedIter == iter) return;
+	if (passOpen(iter)) return; // a second law of the same pass
 	forcesKept = keepsForces;
 #ifdef YADE_OPENMP
 	const size_t threads = std::max(1, omp_get_max_threads());
@@ -93,13 +93,15 @@ void ViscBridgeContext::beginStep(long iter, bool keepsForces)
 	for (auto& q : forceQueues)
 		q.clear();
 	publishedIter = iter;
-	mergedIter = orderedIter = -1; // read before the loop of this step: read again
+	mergedIter = orderedIter = -1; // read before the loop of this step, or by a failed try of it: read again
+	openPassIter.store(iter, std::memory_order_release);
 }
 
 void ViscBridgeContext::keepForce(const ContactForce& force) { ownQueue(forceQueues).push_back(force); }
 
 const std::vector<const ContactForce*>& ViscBridgeContext::forces(long iter, size_t bodies)
 {
+	closePass();
 	if (orderedIter == iter) return ordered;
 	// A counting sort by the smaller id (one pass to count, one to place: cheaper than a comparison
 	// sort of every contact), then each body's few contacts by the larger id.
@@ -129,6 +131,7 @@ void ViscBridgeContext::publish(const BridgeEvent& event) { ownQueue(queues).pus
 
 const std::vector<BridgeEvent>& ViscBridgeContext::events(long iter)
 {
+	closePass();
 	if (mergedIter != iter) {
 		merged.clear();
 		if (publishedIter == iter)

@@ -18,6 +18,7 @@
 #include <core/Scene.hpp>
 #include <lib/base/openmp-accu.hpp>
 #include <lib/serialization/Serializable.hpp>
+#include <atomic>
 #include <mutex>
 #include <set>
 #include <string>
@@ -36,6 +37,12 @@ class ViscBridgeContext : public Serializable {
 	long                                         orderedIter = -1;
 	long                                  publishedIter = -1, mergedIter = -1;
 	bool                                  forcesKept = false; // in step publishedIter
+	// The step whose loop pass is open, -1 when none: from the law's first contact of a step until an
+	// engine reads what the pass produced.  YADE repeats a step that threw with the same iter (its
+	// Scene::moveToNextTimeStep advances iter only at the end), so a pass already read is over and the
+	// repeated step begins a new one instead of adding to the failed step's forces and events.
+	std::atomic<long>                     openPassIter { -1 };
+	void                                  closePass() { openPassIter.store(-1, std::memory_order_relaxed); }
 	std::string                           pendingError;
 	std::mutex                            pendingMutex;
 	std::set<std::string>                 warned; // the plausibility warnings said in this scene
@@ -107,10 +114,12 @@ public:
 	// below any velocity a run resolves, it is none.
 	static Vector3r relaxedOffset(const Vector3r& o) { return o.cwiseAbs().maxCoeff() < 1e-100 ? Vector3r::Zero() : o; }
 
-	// Events.  beginStep() must run once per step before the first publish() (the law does it under
-	// its per-step critical section); publish() is then safe from any thread.
-	// `keepsForces`: the law keeps every wet contact's forces this step (keepForce), for ViscBridgeForceSum.
+	// Events.  beginStep() must run once per loop pass before the first publish() (the law does it
+	// under its per-step critical section, whenever passOpen(iter) is false); publish() is then safe
+	// from any thread.  `keepsForces`: the law keeps every wet contact's forces this step (keepForce),
+	// for ViscBridgeForceSum.
 	void beginStep(long iter, bool keepsForces = false);
+	bool passOpen(long iter) const { return openPassIter.load(std::memory_order_acquire) == iter; }
 	void publish(const BridgeEvent& event);
 	// The forces of a wet contact this step, for ViscBridgeForceSum (the law calls it only while one
 	// is in place); safe from any thread, as publish().
@@ -120,7 +129,11 @@ public:
 	// For engines that run after InteractionLoop.
 	const std::vector<const ContactForce*>& forces(long iter, size_t bodies);
 	// Whether forces(iter, …) lists every wet contact of step `iter` (the law kept them all).
-	bool keptEveryContact(long iter) const { return publishedIter == iter && forcesKept; }
+	bool keptEveryContact(long iter)
+	{
+		closePass();
+		return publishedIter == iter && forcesKept;
+	}
 	// The events of step `iter` (empty if none were published in it), sorted by (id1, id2, kind):
 	// the same list on any number of threads.  For engines that run after InteractionLoop.
 	const std::vector<BridgeEvent>& events(long iter);

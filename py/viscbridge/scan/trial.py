@@ -11,6 +11,7 @@ from ..measures import (capillary_input, energy_released, instability, kinetic_e
 from .beds import dry_bed
 from .bisection import bisect_threshold
 from .cases import _LIQUID_KEYS, case_key, normalize_case
+from .._yade_run import run_steps, run_until
 
 __all__ = ['find_critical_dt']
 
@@ -63,7 +64,7 @@ class _Trial:
         O.dt = dt
         checks = 40
         for _ in range(checks):
-            O.run(max(1, self.case['steps'] // checks), True)
+            run_steps(max(1, self.case['steps'] // checks))
             ke, released = self.measures()
             why = instability(ke, released, self.ke0)
             if why:
@@ -76,9 +77,8 @@ class _Trial:
         import yade.wrapper as yw
         self.prepare()
         ts = next(e for e in O.engines if isinstance(e, yw.ViscBridgeTimeStepper))
-        O.run(1, True)  # interactions are created and the stepper runs once
-        for _ in range(60):  # dt may only grow by maxGrowth per step: let it settle
-            O.run(1, True)
+        run_steps(1)  # interactions are created and the stepper runs once
+        run_steps(60)  # dt may only grow by maxGrowth per step: let it settle
         contacts = [i for i in O.interactions if i.isReal]
         dyn = sum(1 for b in O.bodies if b.dynamic)
         return dict(dt_stepper=O.dt, dt_stepper_collision=ts.dtCollision, dt_stepper_viscous=ts.dtViscous,
@@ -103,9 +103,7 @@ class _Trial:
         O.timingEnabled = True
         for e in O.engines:
             e.execTime = 0
-        O.stopAtTime = O.time + duration
-        O.run()
-        O.wait()
+        run_until(O.time + duration)
         seconds = sum(e.execTime for e in O.engines) * 1e-9
         O.timingEnabled = False
         ke, released = self.measures()

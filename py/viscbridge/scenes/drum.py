@@ -21,6 +21,7 @@ import yade.wrapper as yw
 from yade import geom
 
 from .. import _checks, _registry, liquid
+from .._yade_run import run_until
 from ..engine_list import bridge_parameters, check_accuracy, engines
 
 __all__ = ['drum', 'Drum', 'UNITS']
@@ -92,11 +93,7 @@ class Drum:
             duration = _checks.positive('Drum.run', 'revolutions', revolutions) * self.period
         else:
             duration = _checks.positive('Drum.run', 'duration', duration, ' [s]')
-        O.stopAtTime = O.time + duration
-        try:
-            O.run(-1, True)
-        finally:
-            O.stopAtTime = 0
+        run_until(O.time + duration)
 
     def spray(self, volumeRel, revolutions=1.0, start=None, dropletRel=0.0, zone=None, nozzle=(0, 0, -1), maxFilmRel=0.1,
               seed=None, label='drumSpray'):
