@@ -24,7 +24,8 @@ should own no moving particle (mpy never sends their states to the workers).
 import os
 import sys
 
-__all__ = ['ranks', 'rank', 'decompose', 'absolute_verlet_distance', 'energy', 'energy_total', 'to_serial', 'require_whole_scene']
+__all__ = ['ranks', 'rank', 'decompose', 'absolute_verlet_distance', 'energy', 'energy_total', 'to_serial', 'require_whole_scene',
+           'is_split', 'allgather']
 
 
 def _launched_by_mpiexec():
@@ -55,12 +56,25 @@ def rank():
     return mp.rank if mp else 0
 
 
+def is_split():
+    """Whether this rank holds only its share of a scene split by yade.mpy (between ``mp.mpirun``
+    without merging and ``mp.mergeScene``)."""
+    from yade import O
+    return bool(getattr(O, 'splitted', False)) and ranks() > 1
+
+
+def allgather(value):
+    """Every rank's `value`, in rank order, on every rank (a collective under mpy: call it on every
+    rank at the same point); ``[value]`` serially."""
+    mp = _mpy()
+    return mp.comm.allgather(value) if mp else [value]
+
+
 def require_whole_scene(func):
     """RuntimeError naming `func` while this rank holds only its share of a scene split by yade.mpy:
     a measure over the scene's bodies or interactions would be this rank's part of it (a different
     answer without an error).  After ``mp.mpirun(..., withMerge=True)`` rank 0 holds the whole scene."""
-    from yade import O
-    if getattr(O, 'splitted', False) and ranks() > 1:
+    if is_split():
         raise RuntimeError('%s: the scene is split over the %d ranks of yade.mpy, and rank %d sees only its own bodies and '
                            'interactions; measure the merged scene instead: mp.mpirun(..., withMerge=True), then call it on rank 0'
                            % (func, ranks(), rank()))

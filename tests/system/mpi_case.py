@@ -13,8 +13,11 @@ ranks, the initial kinetic energy and the bridges.  Options (after OUT):
   --clump         add a clump of two wet spheres to worker 1 (must be refused: mpy has no clumps)
   --moving-wall engine|velocity   a wall moved by a TranslationEngine, or with its velocity set (must be
                   refused: mpy moves the master's bodies on the master only)
-  --measure-split run without merging, then call the scene's measures (agglomerates, liquid, VTK) on
-                  every rank (each must refuse: a rank holds only its share)
+  --measure-split run without merging, then call the scene's measures on every rank: agglomerates
+                  (a collective: the whole scene's, recorded, and rank 0's of the merged scene after
+                  mp.mergeScene()); liquid and VTK (each must refuse: a rank holds only its share)
+  --history       an AgglomerateHistory recorder every 50 steps (OUT.agglomerates.csv, written by rank 0;
+                  its rows recorded on every rank)
   --events        the test engine ViscBridgeEventCounter after the interaction loop (its counts per rank)
   --save FILE     rank 0 saves the merged scene at the end
   --load FILE     serially: load FILE (saved by --save), try a step (refused), viscbridge.mpi.to_serial(), run
@@ -45,6 +48,7 @@ ap.add_argument('--no-decompose', action='store_true')
 ap.add_argument('--clump', action='store_true')
 ap.add_argument('--moving-wall', choices=('engine', 'velocity'), default=None)
 ap.add_argument('--events', action='store_true')
+ap.add_argument('--history', action='store_true')
 ap.add_argument('--measure-split', action='store_true')
 ap.add_argument('--save', default=None)
 ap.add_argument('--load', default=None)
@@ -90,6 +94,11 @@ def build():
         else:
             wall.state.vel = (0, 0, 1e-3)
     O.engines = O.engines + [yw.PyRunner(iterPeriod=1, initRun=True, command='DTS.append(O.dt)', label='dtRecorder')]
+    if args.history:
+        from viscbridge.analysis.agglomerate_history import AgglomerateHistory
+        global HISTORY
+        HISTORY = AgglomerateHistory(args.out + '.agglomerates.csv')
+        O.engines = O.engines + [HISTORY.recorder(iterPeriod=50)]
 
 
 if args.load:
@@ -103,6 +112,11 @@ builtins.DTS = DTS  # PyRunner commands run in __main__ of yade, not here
 
 me = viscbridge.mpi.rank()
 result = dict(rank=me, ranks=viscbridge.mpi.ranks(), error=None)
+
+
+def agglomerate_record(a):
+    return dict(ids=[int(i) for i in a.ids], labels=[int(k) for k in a.labels], sizes=[int(s) for s in a.sizes],
+                coordination=a.coordination)
 
 
 def run(steps):
@@ -125,8 +139,10 @@ try:
         mp.mpirun(args.steps, mp.numThreads, withMerge=False)
         import viscbridge.liquid as liquid
         import viscbridge.vtk as vtk
+        split = viscbridge.agglomerates()
+        result['splitAgglomerates'] = agglomerate_record(split)
         refused = {}
-        for name, call in (('agglomerates', viscbridge.agglomerates), ('total', liquid.total),
+        for name, call in (('total', liquid.total),
                            ('distribution', liquid.distribution), ('write_particles', lambda: vtk.write_particles(args.out + '.vtp'))):
             try:
                 call()
@@ -135,6 +151,8 @@ try:
                 refused[name] = str(error)
         result['refused'] = refused
         mp.mergeScene()  # so that every rank ends together
+        if me == 0:
+            result['mergedAgglomerates'] = agglomerate_record(viscbridge.agglomerates())
     elif args.mismatch:
         run(5)
         if me == 1:
@@ -154,6 +172,11 @@ if counters:
     c = counters[0]
     result['events'] = dict(formed=c.formed, ruptured=c.ruptured, mismatches=c.mismatches, outOfOrder=c.outOfOrder)
 result['dts'] = DTS
+if args.history:
+    result['historyRows'] = [[r['iter'], r['agglomerates'], r['largest'], r['coordination']] for r in HISTORY.rows]
+    if me == 0:
+        with open(args.out + '.agglomerates.csv') as fh:
+            result['historyCsvLines'] = sum(1 for line in fh if line.strip())
 if result['error'] is None:
     result['energy'] = viscbridge.mpi.energy()
     if me == 0:

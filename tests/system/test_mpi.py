@@ -243,18 +243,35 @@ def test_a_moving_wall_is_refused_on_every_rank(how):
         assert 'OpenMP threads' in results[0]['error']
 
 
-def test_the_scenes_measures_refuse_a_split_scene():
+def test_the_scenes_measures_of_a_split_scene_are_the_whole_scenes_or_refused():
     """While the scene is split (after mp.mpirun without merging), a rank holds only its share of the
-    bodies and interactions: agglomerates, the liquid's totals and the VTK writers refuse on every
-    rank, naming the function and what to do, instead of answering for one rank's part."""
-    results = run_case(3, '--measure-split', '--steps', '20')
+    bodies and interactions.  viscbridge.agglomerates() gathers the whole scene's on every rank: the
+    same ids, labels and coordination as rank 0 finds on the merged scene at the same step, with
+    bridges between the two workers' spheres.  The liquid's totals and the VTK writers refuse on
+    every rank, naming the function and what to do, instead of answering for one rank's part."""
+    results = run_case(3, '--measure-split', '--steps', '150')
     assert [r['rank'] for r in results] == [0, 1, 2]
+    merged = results[0]['mergedAgglomerates']
+    assert len(merged['ids']) == 40 and merged['sizes'][0] >= 3 and merged['coordination'] > 0
+    assert results[0]['crossBridges'] > 0
     for r in results:
         assert r['error'] is None, r
+        assert r['splitAgglomerates'] == merged, r['rank']
         for name, message in r['refused'].items():
             assert message and 'split over the 3 ranks of yade.mpy' in message and 'withMerge=True' in message, (name, r)
-    assert 'viscbridge.agglomerates' in results[1]['refused']['agglomerates']
     assert 'viscbridge.vtk.write_particles' in results[2]['refused']['write_particles']
+
+
+def test_an_agglomerate_history_over_the_ranks_is_the_serial_one():
+    """An AgglomerateHistory recorder in every rank's engines: the rows (agglomerates, largest,
+    coordination every 50 steps) are the serial run's on every rank, and rank 0 alone writes the CSV,
+    one line per row."""
+    serial = run_case(1, '--history')[0]
+    rows = serial['historyRows']
+    assert len(rows) >= 6 and rows[-1][1] < rows[0][1]  # bridges formed agglomerates
+    for r in run_case(3, '--history'):
+        assert r['error'] is None and r['historyRows'] == rows, r['rank']
+    assert run_case(3, '--history')[0]['historyCsvLines'] == len(rows) + 1
 
 
 def test_merged_scene_saved_and_run_on_serially(tmp_path):

@@ -26,7 +26,7 @@ import os
 
 import numpy
 
-from .. import _checks, _registry, liquid
+from .. import _checks, _registry, liquid, mpi
 from .agglomerates import agglomerates, transitions
 
 __all__ = ['AgglomerateHistory', 'Column', 'COLUMN_INFO', 'COLUMNS', 'mass_median_size', 'granule_mass_median_size',
@@ -170,6 +170,8 @@ class AgglomerateHistory:
         self.params.update(params)
         given_units.update(units)
         self._start(csv_path, [], None)
+        if not self._writes:
+            return
         _warn_replacing(csv_path)
         os.makedirs(os.path.dirname(os.path.abspath(csv_path)), exist_ok=True)
         with open(csv_path, 'w') as fh:
@@ -187,6 +189,8 @@ class AgglomerateHistory:
         the last one (None: not known)."""
         self.csv_path, self.rows, self.snapshots, self._rows_loaded = csv_path, rows, [], len(rows)
         self._last, self._runners = last, []
+        # under yade.mpy every rank measures (agglomerates() is a collective) and rank 0 writes the files
+        self._writes = mpi.rank() == 0
         _HISTORIES[os.path.abspath(csv_path)] = self
         # the command of its recorders (recorder()): with the CSV from the root, so that a process that
         # loads the saved scene finds the files to go on with (_recorded)
@@ -256,6 +260,8 @@ class AgglomerateHistory:
         """Append `row` (every column of COLUMNS) measured on the agglomerates `a` to ``rows`` and the CSV."""
         self.rows.append(row)
         self.snapshots.append((row['t'], a.sizes.copy(), a.mass_fractions.copy()))
+        if not self._writes:
+            return row
         with open(self.csv_path, 'a') as fh:
             fh.write(','.join(_cell(row[c]) for c in COLUMNS) + '\n')
         return row

@@ -121,13 +121,14 @@ def edges_of_scene(min_force=0.0, min_volume=0.0):
     """(member ids, edges, masses, per-member liquid or None) read off O: members are the dynamic
     spheres and the clumps of spheres, edges the liquid bridges between two members carrying at
     least `min_force` [N] (the magnitude of the interaction's total force) and holding at least
-    `min_volume` [m³]."""
+    `min_volume` [m³].  While yade.mpy has the scene split, those of the whole scene, gathered from
+    every rank (a collective: call it on every rank)."""
     from yade import O
-    import yade.wrapper as yw
     from .. import liquid
-    from ..mpi import require_whole_scene
-    require_whole_scene('viscbridge.agglomerates')
+    from .. import mpi
     node = {b.id: _node(b) for b in O.bodies if b is not None}
+    if mpi.is_split():
+        return _edges_over_ranks(node, min_force, min_volume)
     members = sorted({m for m in node.values() if m is not None})
     index = {m: k for k, m in enumerate(members)}
     # a member's liquid: its spheres' (film + share of each bridge, viscbridge.liquid's one rule)
@@ -138,23 +139,51 @@ def edges_of_scene(min_force=0.0, min_volume=0.0):
         for i, volume in zip(spread.ids.tolist(), spread.liquid.tolist()):
             if node.get(i) is not None:
                 per_member[index[node[i]]] += volume
+    edges = _bridges(O.interactions, node, min_force, min_volume)
+    masses = [O.bodies[m].state.mass for m in members]
+    return members, edges, masses, per_member if with_liquid else None
+
+
+def _bridges(interactions, node, min_force, min_volume):
+    """The (member, member) pairs of the liquid bridges among `interactions` that carry at least
+    `min_force` and hold at least `min_volume`."""
+    import yade.wrapper as yw
     edges = []
-    for I in O.interactions:
+    for I in interactions:
         if not (I.isReal and isinstance(I.phys, yw.ViscBridgePhys) and I.phys.bridge):
             continue
         ends = [node.get(i) for i in (I.id1, I.id2)]
         if None not in ends and ends[0] != ends[1] and I.phys.bridgeVolume >= min_volume and (
                 min_force <= 0 or (I.phys.normalForce + I.phys.shearForce).norm() >= min_force):
             edges.append(tuple(ends))
-    masses = [O.bodies[m].state.mass for m in members]
-    return members, edges, masses, per_member if with_liquid else None
+    return edges
+
+
+def _edges_over_ranks(node, min_force, min_volume):
+    """edges_of_scene of a scene yade.mpy has split: each rank gives the members it owns and the
+    bridges that touch one (a bridge between two workers' spheres is computed on both, with the same
+    values, and counted once; the master's copies of the workers' spheres are stale and give
+    nothing), every rank joins the parts."""
+    from yade import O
+    from .. import mpi
+    me = mpi.rank()
+    own = {b.id for b in O.bodies if b is not None and b.subdomain == me}
+    if any(hasattr(O.bodies[m].state, 'film') for m in own if node.get(m) is not None):
+        mpi.require_whole_scene('viscbridge.agglomerates (the liquid per agglomerate)')
+    members = [(m, O.bodies[m].state.mass) for m in sorted(own) if node.get(m) == m]
+    touching = [I for I in O.interactions if I.isReal and (I.id1 in own or I.id2 in own)]
+    parts = mpi.allgather((members, _bridges(touching, node, min_force, min_volume)))
+    members = sorted(m for part, _ in parts for m in part)
+    edges = sorted({tuple(sorted(e)) for _, part in parts for e in part})
+    return [m for m, _ in members], edges, [mass for _, mass in members], None
 
 
 def agglomerates(scene=None, min_force=0.0, min_volume=0.0):
     """The :class:`Agglomerates` of O — or of the saved scene `scene` (a file name, loaded into O with
     O.load).  An edge is a liquid bridge between two dynamic spheres; with `min_force` [N] only
     bridges that carry at least that force (a bridge that carries no load in a dense flow does not
-    make a granule), with `min_volume` [m³] only bridges that hold at least that liquid."""
+    make a granule), with `min_volume` [m³] only bridges that hold at least that liquid.  While
+    yade.mpy has the scene split, a collective: call it on every rank; each gets the whole scene's."""
     from .. import _checks
     f = 'agglomerates'
     min_force = _checks.non_negative(f, 'min_force', min_force, ' [N]')

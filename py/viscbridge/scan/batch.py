@@ -129,9 +129,10 @@ def _failures(todo, done, reported, scan_dir):
 
 
 def _log_error(path):
-    """The error a case log ends with: its last Python exception line; else the message of an engine's
-    exception as YADE printed it (the line after "Exception occured:", all a log has when YADE's
-    O.wait() missed the exception); else the last line before yade-batch's job summary."""
+    """The error a case log ends with: the message of an engine's exception as YADE printed it (the
+    line after "Exception occured:"; when YADE's O.wait() missed it, the Python error only says the
+    run stopped short); else its last Python exception line; else the last line before yade-batch's
+    job summary."""
     if not os.path.exists(path):
         return 'not started (no %s; see yade-batch.log)' % os.path.basename(path)
     with open(path, errors='replace') as fh:
@@ -141,7 +142,7 @@ def _log_error(path):
     errors = [line for line in lines if re.match(r'[\w.]*(Error|Exception|Interrupt)\b', line)]
     engine_errors = [after for line, after in zip(lines, lines[1:]) if line.endswith('Exception occured:')]
     if errors or engine_errors:
-        return (errors or engine_errors)[-1]
+        return (engine_errors or errors)[-1]
     status = [line.split(':', 1)[1].strip() for line in summary if line.startswith('status')]
     return '%s (no error in its log; yade-batch status %s)' % ((lines or ['an empty log'])[-1], (status or ['unknown'])[0])
 
