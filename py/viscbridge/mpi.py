@@ -25,7 +25,7 @@ import os
 import sys
 
 __all__ = ['ranks', 'rank', 'decompose', 'absolute_verlet_distance', 'energy', 'energy_total', 'to_serial', 'require_whole_scene',
-           'is_split', 'allgather']
+           'is_split', 'allgather', 'move_boundaries_on_workers']
 
 
 def _launched_by_mpiexec():
@@ -103,7 +103,8 @@ def decompose(axis=None, workers=None):
     extent of the spheres); every other body (walls, facets, fixed bodies) stays with the master
     (subdomain 0).  Call it on every rank before ``mp.mpirun``, after the scene is built.  Returns
     the number of spheres per worker.  It also fixes the colliders' verletDist
-    (:func:`absolute_verlet_distance`).  Serially (one rank) it does nothing and returns []."""
+    (:func:`absolute_verlet_distance`) and puts a ViscBridgeBoundaryMotion after NewtonIntegrator
+    (:func:`move_boundaries_on_workers`).  Serially (one rank) it does nothing and returns []."""
     from yade import O
     import yade.wrapper as yw
     if workers is None:
@@ -127,11 +128,29 @@ def decompose(axis=None, workers=None):
         b.subdomain = w + 1
         counts[w] += 1
     absolute_verlet_distance()
+    move_boundaries_on_workers()
     assigned = set(b.id for b in spheres)
     for b in O.bodies:
         if b and b.id not in assigned and not getattr(b, 'isSubdomain', False):
             b.subdomain = 0
     return counts
+
+
+def move_boundaries_on_workers():
+    """Put a ViscBridgeBoundaryMotion right after NewtonIntegrator in O.engines (unless one is there):
+    it moves the master's walls and facets that kinematic engines drive (a drum's RotationEngine) on
+    every worker as NewtonIntegrator moves them on the master, which YADE's NewtonIntegrator does not
+    (it moves the bodies of its own subdomain only).  Without it ViscBridge refuses such a scene under
+    mpy.  :func:`decompose` calls it; with ``mp.DOMAIN_DECOMPOSITION = True`` call it yourself.  Returns
+    whether it added the engine."""
+    from yade import O
+    import yade.wrapper as yw
+    engines = list(O.engines)
+    newton = [k for k, e in enumerate(engines) if isinstance(e, yw.NewtonIntegrator)]
+    if not newton or any(isinstance(e, yw.ViscBridgeBoundaryMotion) for e in engines):
+        return False
+    O.engines = engines[:newton[-1] + 1] + [yw.ViscBridgeBoundaryMotion(label='boundaryMotion')] + engines[newton[-1] + 1:]
+    return True
 
 
 def energy():

@@ -11,8 +11,10 @@ ranks, the initial kinetic energy and the bridges.  Options (after OUT):
   --mismatch      run 5 steps, then give rank 1 twice the dt and run on (must be refused)
   --no-decompose  leave every particle to the master (must be refused)
   --clump         add a clump of two wet spheres to worker 1 (must be refused: mpy has no clumps)
-  --moving-wall engine|velocity   a wall moved by a TranslationEngine, or with its velocity set (must be
-                  refused: mpy moves the master's bodies on the master only)
+  --moving-wall engine|velocity   a wall moved by a TranslationEngine, or with its velocity set (the
+                  ViscBridgeBoundaryMotion decompose() adds moves it on the workers)
+  --no-boundary-motion  without that engine (a moving wall must then be refused: mpy moves the
+                  master's bodies on the master only)
   --measure-split run without merging, then call the scene's measures on every rank: agglomerates
                   (a collective: the whole scene's, recorded, and rank 0's of the merged scene after
                   mp.mergeScene()); liquid and VTK (each must refuse: a rank holds only its share)
@@ -47,6 +49,7 @@ ap.add_argument('--mismatch', action='store_true')
 ap.add_argument('--no-decompose', action='store_true')
 ap.add_argument('--clump', action='store_true')
 ap.add_argument('--moving-wall', choices=('engine', 'velocity'), default=None)
+ap.add_argument('--no-boundary-motion', action='store_true')
 ap.add_argument('--events', action='store_true')
 ap.add_argument('--history', action='store_true')
 ap.add_argument('--measure-split', action='store_true')
@@ -79,6 +82,8 @@ def build():
         O.engines = O.engines[:loop + 1] + [yw.ViscBridgeEventCounter(label='eventCounter')] + O.engines[loop + 1:]
     if not args.no_decompose:
         viscbridge.mpi.decompose(axis=0)
+    if args.no_boundary_motion:
+        O.engines = [e for e in O.engines if not isinstance(e, yw.ViscBridgeBoundaryMotion)]
     if args.clump:
         mat = O.bodies[-1].material
         top = max(b.state.pos[2] for b in O.bodies if isinstance(b.shape, yw.Sphere)) + 1e-3

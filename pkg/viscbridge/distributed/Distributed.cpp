@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <pkg/common/KinematicEngines.hpp>
+#include <pkg/dem/NewtonIntegrator.hpp>
 #ifdef YADE_MPI
 #include <core/Subdomain.hpp>
 #include <mpi.h>
@@ -366,16 +367,42 @@ namespace distributed {
 				                              "take clumps there.");
 	}
 
+	bool isMasterBoundary(const Body& b)
+	{
+#ifdef YADE_MPI
+		return b.subdomain == 0 && !b.isDynamic() && !b.getIsSubdomain() && !b.isClumpMember();
+#else
+		return false;
+#endif
+	}
+
+	namespace {
+		bool boundariesMoveOnWorkers(const Scene* scene)
+		{
+			bool afterNewton = false;
+			for (const auto& e : scene->engines) {
+				if (dynamic_cast<const NewtonIntegrator*>(e.get())) afterNewton = true;
+				else if (afterNewton && !e->dead && e->getClassName() == "ViscBridgeBoundaryMotion")
+					return true;
+			}
+			return false;
+		}
+	}
+
 	void refuseMovingBoundaries(const Scene* scene)
 	{
 		if (!active(scene)) return;
-		auto refuse = [](Body::id_t id, const std::string& how) {
-			throw std::invalid_argument(
-			        "Body #" + std::to_string(id) + " is a boundary that moves (" + how
-			        + ") in a scene split by yade.mpy: mpy moves the master's bodies on the master only, and the workers' copies stay where "
-			          "they were, so the particles there would meet a wall that is not where it is (the product's drum on 2 ranks so ends with "
-			          "its bed's centre 0.8 mm from the serial run's, with no error). Run scenes with moving walls or a turning drum in "
-			          "one process with OpenMP threads (yade -j N; the run is bit-identical on any number of threads).");
+		const bool moved = boundariesMoveOnWorkers(scene);
+		if (moved && !scene->isPeriodic) return;
+		const std::string why = moved
+		        ? " in a periodic cell split by yade.mpy: ViscBridgeBoundaryMotion moves the master's boundaries on the workers as "
+		          "NewtonIntegrator does in a non-periodic scene only. Run it in one process with OpenMP threads (yade -j N)."
+		        : " in a scene split by yade.mpy, and O.engines has no ViscBridgeBoundaryMotion after NewtonIntegrator: mpy moves the "
+		          "master's bodies on the master only, and the workers' copies would stay where they were, so the particles there "
+		          "would meet a wall that is not where it is. viscbridge.mpi.decompose() adds the engine; or append "
+		          "ViscBridgeBoundaryMotion() after NewtonIntegrator yourself.";
+		auto refuse = [&](Body::id_t id, const std::string& how) {
+			throw std::invalid_argument("Body #" + std::to_string(id) + " is a boundary that moves (" + how + ")" + why);
 		};
 		for (const auto& e : scene->engines) {
 			const PartialEngine* driving = dynamic_cast<const KinematicEngine*>(e.get());

@@ -101,9 +101,13 @@ namespace distributed {
 	void refuseClumps(const Scene* scene);
 
 	// Split by yade.mpy: std::invalid_argument if a boundary (a body that is not dynamic) moves — a
-	// kinematic engine drives it or its velocity is set.  mpy moves the master's bodies on the master
-	// only: the workers' copies would stand still for their particles.
+	// kinematic engine drives it or its velocity is set — and no ViscBridgeBoundaryMotion after
+	// NewtonIntegrator moves it on the workers (mpy moves the master's bodies on the master only: the
+	// workers' copies would stand still for their particles), or the cell is periodic.
 	void refuseMovingBoundaries(const Scene* scene);
+	// A body of the master that NewtonIntegrator moves without forces there (not dynamic; not mpy's
+	// Subdomain body): what ViscBridgeBoundaryMotion moves on the workers.
+	bool isMasterBoundary(const Body& b);
 
 	// When the scene is not split (serial, or merged by mpy.mergeScene()): std::invalid_argument if a
 	// moving body belongs to another subdomain than the scene's, since NewtonIntegrator (built with

@@ -11,6 +11,7 @@
 #include "viscbridge/engines/ViscBridgeGuard.hpp"
 #include "viscbridge/engines/ViscBridgeImplicitSolver.hpp"
 #include "viscbridge/engines/ViscBridgeImplicitWarmStart.hpp"
+#include "viscbridge/engines/ViscBridgeBoundaryMotion.hpp"
 #include "viscbridge/engines/ViscBridgeForceSum.hpp"
 #include "viscbridge/engines/ViscBridgeLiquid.hpp"
 #include "viscbridge/engines/ViscBridgeRecorder.hpp"
@@ -19,5 +20,5 @@
 namespace yade {
 YADE_PLUGIN((ViscBridgeHeaderProbe)(ViscBridgePhys)(Ip2_FrictMat_FrictMat_ViscBridgePhys)(Law2_ScGeom_ViscBridgePhys_HertzViscous)
             (Ig2_Wall_Sphere_ViscBridgeScGeom)(Ig2_Facet_Sphere_ViscBridgeScGeom)
-            (ViscBridgeTimeStepper)(ViscBridgeImplicitSolver)(ViscBridgeImplicitWarmStart)(ViscBridgeGuard)(ViscBridgeForceSum)(ViscBridgeLiquid)(ViscBridgeRecorder)(ViscBridgeSpray)(ViscBridgeState)(ViscBridgeContext));
+            (ViscBridgeTimeStepper)(ViscBridgeImplicitSolver)(ViscBridgeImplicitWarmStart)(ViscBridgeGuard)(ViscBridgeForceSum)(ViscBridgeBoundaryMotion)(ViscBridgeLiquid)(ViscBridgeRecorder)(ViscBridgeSpray)(ViscBridgeState)(ViscBridgeContext));
 } // namespace yade
