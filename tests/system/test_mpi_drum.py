@@ -1,4 +1,4 @@
-"""The product's drum under yade.mpy (docs/cluster.md, "Moving boundaries"): its facets, which a
+"""The product's drum under yade.mpy (docs/cluster.md, "Moving walls and the drum"): its facets, which a
 RotationEngine turns and mpy leaves with the master, move on every worker as on the master
 (ViscBridgeBoundaryMotion, added by viscbridge.mpi.decompose()), and the run follows the serial one.
 tests/system/mpi_drum_case.py is the scene: 150 spheres of 1 mm in a drum of 12 mm at Fr = 0.3,

@@ -4,7 +4,7 @@
 // master's states to the workers only with mpy.MASTER_UPDATE_STATES (its comment: "else they will be
 // fixed or moved by the workers (e.g. MotionEngines)"; the engines set the velocities, nothing moves
 // the bodies): without this, a worker's particles meet a drum's facets where they were at the start.
-// docs/cluster.md, "Moving boundaries".
+// docs/cluster.md, "Moving walls and the drum".
 #pragma once
 #include <core/GlobalEngine.hpp>
 
