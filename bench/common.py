@@ -154,6 +154,23 @@ def interleaved(configs, measure, rounds=7):
     return {c: min((x for x in v if not math.isnan(x)), default=math.nan) for c, v in samples.items()}, samples
 
 
+def run_on_ranks(script, args, ranks):
+    """The result of a benchmark's worker: `script` run as ``yade -n -j1 -x SCRIPT ARGS... OUT`` in a
+    fresh directory, serially (`ranks` 1) or under mpiexec on `ranks` MPI ranks, one thread each; it
+    writes its result as JSON to OUT, the last argument (rank 0's, under MPI)."""
+    import subprocess
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, 'result.json')
+        yade = ['yade', '-n', '-j1', '-x', script, *[str(a) for a in args], out]
+        mpi = ['mpiexec', '--allow-run-as-root', '--oversubscribe', '-n', str(ranks)] if ranks > 1 else []
+        # a private TMPDIR: mpiexec names its session directory after its PID, which repeats in yadew's PID namespaces
+        subprocess.run(mpi + yade, check=True, cwd=tmp, env=dict(os.environ, OMP_NUM_THREADS='1', TMPDIR=tmp),
+                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        with open(out) as fh:
+            return json.load(fh)
+
+
 def write_rows(path, rows):
     import csv
     os.makedirs(os.path.dirname(path), exist_ok=True)

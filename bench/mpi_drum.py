@@ -23,9 +23,10 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(sys.argv[0]))  # yade -x: __file__ is yade's own
 sys.path.insert(0, HERE)
+import common  # noqa: E402
 import drum_cost  # noqa: E402  (its landed beds)
 
-OUT = os.path.join(HERE, '..', 'docs', 'perf', 'mpi_drum.csv')
+OUT = os.path.join(common.RESULTS, 'mpi_drum.csv')
 WARMUP, STEPS, ROUNDS = 10, 20, 2
 
 
@@ -65,13 +66,7 @@ def land(n):
 
 
 def measure(n, ranks):
-    with tempfile.TemporaryDirectory() as tmp:
-        out = os.path.join(tmp, 'r.json')
-        yade = ['yade', '-n', '-j1', '-x', os.path.join(HERE, 'mpi_drum.py'), '--worker', str(n), out]
-        mpi = ['mpiexec', '--allow-run-as-root', '--oversubscribe', '-n', str(ranks)] if ranks > 1 else []
-        subprocess.run(mpi + yade, check=True, cwd=tmp, env=dict(os.environ, OMP_NUM_THREADS='1', TMPDIR=tmp),
-                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        return json.load(open(out))
+    return common.run_on_ranks(os.path.join(HERE, 'mpi_drum.py'), ['--worker', n], ranks)
 
 
 def model(rows):
@@ -127,10 +122,6 @@ else:
             rows.append(dict(done[0], rounds=len(done), slowest_seconds_per_step=done[-1]['seconds_per_step'],
                              speedup=serial / done[0]['seconds_per_step'],
                              mpy_overhead_per_step=done[0]['seconds_per_step'] - serial if ranks == 2 else ''))
-    with open(OUT, 'w', newline='') as fh:
-        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        w.writeheader()
-        w.writerows(rows)
-    print('wrote', OUT)
+    print('wrote', common.write_rows(OUT, rows))
     if len(sizes) >= 2:
         report_model(rows)

@@ -9,12 +9,12 @@
 import csv
 import json
 import os
-import subprocess
 import sys
-import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(sys.argv[0]))  # yade -x: __file__ is yade's own
+sys.path.insert(0, HERE)
+import common  # noqa: E402
 OUT = os.path.join(HERE, '..', 'docs', 'perf', 'mpi_scaling.csv')
 R = 0.5e-3
 WARMUP = 5
@@ -61,13 +61,7 @@ else:
     ROUNDS = 3  # the VM is noisy and MPI steps wait for the slowest rank: the fastest of interleaved rounds
 
     def measure(integration, n_side, steps, ranks):
-        with tempfile.TemporaryDirectory() as tmp:
-            out = os.path.join(tmp, 'r.json')
-            yade = ['yade', '-n', '-j1', '-x', os.path.join(HERE, 'mpi_scaling.py'), '--worker', n_side, integration, steps, out]
-            mpi = ['mpiexec', '--allow-run-as-root', '--oversubscribe', '-n', str(ranks)] if ranks > 1 else []
-            subprocess.run(mpi + yade, check=True, cwd=tmp, env=dict(os.environ, OMP_NUM_THREADS='1', TMPDIR=tmp),
-                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-            return json.load(open(out))
+        return common.run_on_ranks(os.path.join(HERE, 'mpi_scaling.py'), ['--worker', n_side, integration, steps], ranks)
 
     runs = {}
     for _ in range(ROUNDS):
