@@ -52,10 +52,21 @@ def _volumes(func, ids, volume):
     return [_checks.non_negative(func, 'volume', v, ' [m³]') for v in volume]
 
 
+def _refuse_split(func):
+    """RuntimeError while yade.mpy has the scene split: a film set on one rank's copy of a body would
+    not reach its owner or its mirrors on the other ranks."""
+    from . import mpi
+    if mpi.is_split():
+        raise RuntimeError('viscbridge.liquid.%s: the scene is split over the %d ranks of yade.mpy, where each rank owns only '
+                           'its own bodies\' films; set films before the first mp.mpirun (every rank runs the script), or '
+                           'add binder serially (a spray does not run under yade.mpy)' % (func, mpi.ranks()))
+
+
 def set_film(ids, volume):
     """Set the film of the spheres `ids` (an id or a list) to `volume` [m³] (one value, or one per id)."""
     import yade.wrapper as yw
     from yade import O
+    _refuse_split('set_film')
     ids = _ids('set_film', ids)
     for i, v in zip(ids, _volumes('set_film', ids, volume)):
         yw.ViscBridgeState.of(O.bodies[i]).film = v
@@ -67,6 +78,7 @@ def add(ids, volume):
     during a run (between ``O.run`` calls or from a PyRunner)."""
     import yade.wrapper as yw
     from yade import O
+    _refuse_split('add')
     ids = _ids('add', ids)
     for i, v in zip(ids, _volumes('add', ids, volume)):
         state = yw.ViscBridgeState.of(O.bodies[i])
@@ -90,19 +102,33 @@ def film(id):
     return getattr(O.bodies[id].state, 'film', 0.0)
 
 
+def _rank_if_split():
+    """This rank while yade.mpy has the scene split (each rank then accounts for its own bodies, and a
+    bridge between two ranks' bodies on the higher rank, so that sums over the ranks count each
+    once), None otherwise."""
+    from . import mpi
+    return mpi.rank() if mpi.is_split() else None
+
+
+def _over_ranks(mine, me):
+    """The sum of `mine` over the ranks (a collective while split), `mine` otherwise."""
+    from . import mpi
+    return mine if me is None else math.fsum(mpi.allgather(mine))
+
+
 def in_films():
-    """The liquid in all films [m³]."""
+    """The liquid in all films [m³].  While yade.mpy has the scene split, a collective (call it on every
+    rank): the whole scene's, on every rank."""
     from yade import O
-    from .mpi import require_whole_scene
-    require_whole_scene('viscbridge.liquid')
-    return math.fsum(getattr(b.state, 'film', 0.0) for b in O.bodies if b is not None)
+    me = _rank_if_split()
+    return _over_ranks(math.fsum(getattr(b.state, 'film', 0.0) for b in O.bodies
+                                 if b is not None and (me is None or b.subdomain == me)), me)
 
 
 def _bridges():
+    """The bridges of the interactions this rank holds."""
     from yade import O
     import yade.wrapper as yw
-    from .mpi import require_whole_scene
-    require_whole_scene('viscbridge.liquid')
     return [i for i in O.interactions if i.isReal and isinstance(i.phys, yw.ViscBridgePhys) and i.phys.bridge]
 
 
@@ -115,13 +141,18 @@ def in_bridge(phys):
 
 
 def in_bridges():
-    """The liquid in all existing bridges [m³]."""
-    return math.fsum(in_bridge(i.phys) for i in _bridges())
+    """The liquid in all existing bridges [m³] (a collective while yade.mpy has the scene split, as
+    :func:`in_films`)."""
+    from yade import O
+    me = _rank_if_split()
+    counted = (lambda I: True) if me is None else (lambda I: max(O.bodies[I.id1].subdomain, O.bodies[I.id2].subdomain) == me)
+    return _over_ranks(math.fsum(in_bridge(I.phys) for I in _bridges() if counted(I)), me)
 
 
 def total():
     """All the liquid of the scene, films + bridges [m³].  With liquidModel='film' it changes only by
-    what :func:`add`, :func:`set_film` and :func:`spray` put in (and by erasing bodies)."""
+    what :func:`add`, :func:`set_film` and :func:`spray` put in (and by erasing bodies).  A collective
+    while yade.mpy has the scene split (as :func:`in_films`)."""
     return in_films() + in_bridges()
 
 
@@ -141,16 +172,24 @@ class Distribution:
 
 
 def distribution():
-    """The liquid per sphere as a :class:`Distribution`."""
+    """The liquid per sphere as a :class:`Distribution`.  While yade.mpy has the scene split, a
+    collective (call it on every rank): every rank gets the whole scene's, by sphere id as serially."""
     from yade import O
     import yade.wrapper as yw
-    spheres = [b.id for b in O.bodies if b is not None and isinstance(b.shape, yw.Sphere)]
+    me = _rank_if_split()
+    sphere = lambda i: O.bodies[i] is not None and isinstance(O.bodies[i].shape, yw.Sphere)
+    spheres = [b.id for b in O.bodies if b is not None and isinstance(b.shape, yw.Sphere) and (me is None or b.subdomain == me)]
     where = {i: k for k, i in enumerate(spheres)}
     liquid = [getattr(O.bodies[i].state, 'film', 0.0) for i in spheres]
     for I in _bridges():
-        ends = [i for i in (I.id1, I.id2) if i in where]
+        ends = [i for i in (I.id1, I.id2) if sphere(i)]  # under mpy one may be a neighbour's mirror
         for i in ends:
-            liquid[where[i]] += in_bridge(I.phys) / len(ends)
+            if i in where:
+                liquid[where[i]] += in_bridge(I.phys) / len(ends)
+    if me is not None:
+        from . import mpi
+        joined = sorted(p for part in mpi.allgather(list(zip(spheres, liquid))) for p in part)
+        spheres, liquid = [i for i, _ in joined], [v for _, v in joined]
     return Distribution(spheres, liquid)
 
 

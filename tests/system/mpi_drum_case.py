@@ -8,6 +8,9 @@ holds the merged scene at the end, also the spheres' positions and velocities, O
 the ranks and the guard's checks.  Options (after OUT):
   --steps N   --integration explicit|implicit   --tolerance TOL (implicit)
   --no-boundary-motion  without the ViscBridgeBoundaryMotion decompose() adds (must be refused)
+  --liquid fixed|film  --wet-fraction F (film)  --history N: an AgglomerateHistory every N steps
+  (OUT.csv, written by rank 0) and the liquid's total and CoV, measured on every rank at the same
+  steps by a PyRunner (collectives while the scene is split)
 """
 import argparse
 import json
@@ -26,6 +29,9 @@ ap.add_argument('--steps', type=int, default=1500)
 ap.add_argument('--integration', default='implicit')
 ap.add_argument('--tolerance', type=float, default=None)
 ap.add_argument('--no-boundary-motion', action='store_true')
+ap.add_argument('--liquid', default='fixed')
+ap.add_argument('--wet-fraction', type=float, default=0.15)
+ap.add_argument('--history', type=int, default=0)
 args = ap.parse_args(sys.argv[1:])
 
 distributed = viscbridge.mpi.ranks() > 1
@@ -34,7 +40,8 @@ if distributed:
     mp.VERBOSE_OUTPUT = False
 
 r = 1e-3
-drum = scenes.drum(radius=r, drumRadius=12 * r, n=150, froude=0.3, liquidModel='fixed', integration=args.integration)
+film = {'wetFraction': args.wet_fraction} if args.liquid == 'film' else {}
+drum = scenes.drum(radius=r, drumRadius=12 * r, n=150, froude=0.3, liquidModel=args.liquid, integration=args.integration, **film)
 if args.tolerance:
     next(e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver)).tolerance = args.tolerance
 viscbridge.mpi.decompose(axis=0)
@@ -42,7 +49,31 @@ if args.no_boundary_motion:
     O.engines = [e for e in O.engines if not isinstance(e, yw.ViscBridgeBoundaryMotion)]
 
 me = viscbridge.mpi.rank()
-result = dict(rank=me, ranks=viscbridge.mpi.ranks(), error=None)
+result = dict(rank=me, ranks=viscbridge.mpi.ranks(), error=None, liquid=[])
+if args.history:
+    from viscbridge.analysis.agglomerate_history import AgglomerateHistory
+    import viscbridge.liquid as liquid
+    history = AgglomerateHistory(args.out + '.csv', drum=drum)
+    result['initialLiquid'] = liquid.total()
+
+
+    def measure_liquid():
+        spread = liquid.distribution()
+        # bridges this rank holds between two workers' spheres (each held by both): 0 serially
+        between = lambda i: 0 < O.bodies[i.id1].subdomain != O.bodies[i.id2].subdomain > 0
+        across = sum(1 for i in O.interactions if i.isReal and i.phys.bridge and between(i)) if distributed else 0
+        # a worker's copies of its neighbours' spheres ("mirrors") must carry their owners' films
+        held = {b.id: getattr(b.state, 'film', 0.0) for b in O.bodies if b is not None and isinstance(b.shape, yw.Sphere)}
+        films = {}
+        for part in viscbridge.mpi.allgather(held if me > 0 else {}):  # the master's copies are not kept up to date
+            for i, v in part.items():
+                films.setdefault(i, set()).add(v)
+        stale = sum(1 for values in films.values() if len(values) > 1)
+        result['liquid'].append([O.iter, liquid.total(), liquid.in_films(), spread.cov, len(spread.ids), across, stale])
+
+
+    O.engines = O.engines + [history.recorder(iterPeriod=args.history),
+                             yw.PyRunner(command='measure_liquid()', iterPeriod=args.history)]
 try:
     if distributed:
         mp.mpirun(args.steps, mp.numThreads, withMerge=True)
@@ -62,5 +93,10 @@ if result['error'] is None:
         result['time'] = O.time
         result['guardChecks'] = next(e.checks for e in O.engines if isinstance(e, yw.ViscBridgeGuard))
         result['bridges'] = sum(1 for i in O.interactions if i.isReal and i.phys.bridge)
+        result['films'] = [getattr(b.state, 'film', 0.0) for b in spheres]
+        result['bridgeVolumes'] = sorted([i.id1, i.id2, i.phys.bridgeVolume] for i in O.interactions if i.isReal and i.phys.bridge)
+        if args.history:
+            result['finalLiquid'] = liquid.total()
+            result['history'] = history.rows
 with open('%s.rank%d.json' % (args.out, me), 'w') as fh:
     json.dump(result, fh)

@@ -123,14 +123,15 @@ namespace distributed {
 #endif
 	}
 
-	bool Ownership::interaction(const Interaction& I, const Scene* scene) const
+	bool Ownership::interaction(const Interaction& I, const Scene* scene) const { return pair(I.getId1(), I.getId2(), scene); }
+
+	bool Ownership::pair(Body::id_t id1, Body::id_t id2, const Scene* scene) const
 	{
 #ifdef YADE_MPI
 		if (!split) return true;
-		const shared_ptr<Body>& b1 = (*scene->bodies)[I.getId1()];
-		const shared_ptr<Body>& b2 = (*scene->bodies)[I.getId2()];
-		if (!b1 || !b2) return false;
-		return std::max(b1->subdomain, b2->subdomain) == rank;
+		const BodyContainer& bodies = *scene->bodies;
+		if (!bodies.exists(id1) || !bodies.exists(id2)) return false;
+		return std::max(bodies[id1]->subdomain, bodies[id2]->subdomain) == rank;
 #else
 		return true;
 #endif
@@ -176,6 +177,25 @@ namespace distributed {
 		MPI_Comm_size(comm, &n);
 		std::vector<double> all(mine.size() * static_cast<size_t>(n));
 		MPI_Allgather(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(), static_cast<int>(mine.size()), MPI_DOUBLE, comm);
+		return all;
+#else
+		return mine;
+#endif
+	}
+
+	std::vector<double> allGatherJoined(const Scene* scene, const std::vector<double>& mine)
+	{
+#ifdef YADE_MPI
+		if (!active(scene)) return mine;
+		const MPI_Comm comm = commOf(scene);
+		int            n    = 1, count = static_cast<int>(mine.size());
+		MPI_Comm_size(comm, &n);
+		std::vector<int> counts(static_cast<size_t>(n)), offsets(static_cast<size_t>(n), 0);
+		MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+		for (size_t r = 1; r < counts.size(); ++r)
+			offsets[r] = offsets[r - 1] + counts[r - 1];
+		std::vector<double> all(static_cast<size_t>(offsets.back() + counts.back()));
+		MPI_Allgatherv(mine.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm);
 		return all;
 #else
 		return mine;

@@ -49,6 +49,8 @@ namespace distributed {
 #endif
 		}
 		bool interaction(const Interaction& I, const Scene* scene) const;
+		// The same for the pair of bodies id1, id2 (false when this rank holds either of them not).
+		bool pair(Body::id_t id1, Body::id_t id2, const Scene* scene) const;
 	};
 	Ownership ownership(const Scene* scene);        // uses active()
 	Ownership ownershipThisStep(const Scene* scene); // uses activeThisStep()
@@ -57,6 +59,8 @@ namespace distributed {
 
 	// Values of every rank, rank after rank (every rank gets the same vector).
 	std::vector<double> allGather(const Scene* scene, const std::vector<double>& mine);
+	// The same with a length of its own on every rank: all ranks' values joined in rank order.
+	std::vector<double> allGatherJoined(const Scene* scene, const std::vector<double>& mine);
 	// In place: the sum over ranks (in rank order, so bit-identical on every rank).
 	void sum(const Scene* scene, std::vector<Real*> values);
 	Real sum(const Scene* scene, Real value);

@@ -25,15 +25,14 @@ void ViscBridgeLiquid::postLoad(ViscBridgeLiquid&)
 
 void ViscBridgeLiquid::action()
 {
-	// [MPI] a bridge between two ranks would take from a film that only one rank owns
-	if (distributed::active(scene))
-		throw std::runtime_error("ViscBridgeLiquid: liquidModel='film' does not run under yade.mpy (a bridge between two subdomains would take "
-		                         "liquid from a film only one of them owns); run it serially or with threads (-j), or use liquidModel='fixed'.");
 	if (restoredIn != scene) restoreLiquidModel();
 	const std::vector<BridgeEvent>& events = ViscBridgeContext::of(scene).events(scene->iter);
+	if (distributed::active(scene)) return actOverRanks(events); // [MPI] a collective, also without events here
+	masterChecked = false;
 	if (events.empty()) return;
-	formBridges(events);  // from the films as they were at the start of the step (L1)
-	returnLiquid(events); // then the ruptured bridges' liquid (available from the next step)
+	const auto own = distributed::ownership(scene);
+	formBridges(formationsHere(events), [this](Body::id_t id) { return filmOf(id); }, own); // films as at the start of the step (L1)
+	returnLiquid(events, own); // then the ruptured bridges' liquid (available from the next step)
 }
 
 void ViscBridgeLiquid::restoreLiquidModel()
@@ -74,58 +73,70 @@ void ViscBridgeLiquid::giveBridgeVolume(ViscBridgePhys& ph, Real volume)
 	ph.buildConstants(ph.selection);
 }
 
-std::vector<vb::FilmTake> ViscBridgeLiquid::settleTakes(const std::vector<BridgeEvent>& events, std::vector<ViscBridgePhys*>& phys)
+ViscBridgePhys* ViscBridgeLiquid::bridgeHere(Body::id_t id1, Body::id_t id2) const
+{
+	const shared_ptr<Interaction>& I  = scene->interactions->find(id1, id2);
+	auto*                          ph = I && I->isReal() ? dynamic_cast<ViscBridgePhys*>(I->phys.get()) : nullptr;
+	return ph && ph->bridge ? ph : nullptr;
+}
+
+std::vector<ViscBridgeLiquid::Formation> ViscBridgeLiquid::formationsHere(const std::vector<BridgeEvent>& events) const
+{
+	std::vector<Formation> formations; // in the events' order: by (id1, id2)
+	for (const BridgeEvent& e : events)
+		if (e.kind == BridgeEvent::Kind::formed)
+			if (const ViscBridgePhys* ph = bridgeHere(e.id1, e.id2)) formations.push_back({ e.id1, e.id2, ph->bridgeVolume });
+	return formations;
+}
+
+std::vector<vb::FilmTake> ViscBridgeLiquid::settleTakes(const std::vector<Formation>& formations, const FilmOf& film, std::vector<bool>& alive) const
 {
 	// L1 and L5: what each new bridge would take with every body's film shared among its new bridges.
 	// A bridge that would take less than the threshold and is the smallest such at both its bodies
 	// does not form, and its bodies share among fewer; repeated until every bridge left takes enough.
 	// The result does not depend on the visiting order, and a thinly shared film still forms its best bridges.
-	std::vector<vb::FilmTake> takes(events.size(), vb::FilmTake { 0, 0, 0 });
-	auto tooSmall = [&](std::size_t i) { return phys[i] && (!(takes[i].volume > 0) || takes[i].volume < minBridgeVolume); };
+	std::vector<vb::FilmTake> takes(formations.size(), vb::FilmTake { 0, 0, 0 });
+	alive.assign(formations.size(), true);
+	auto tooSmall = [&](std::size_t i) { return alive[i] && (!(takes[i].volume > 0) || takes[i].volume < minBridgeVolume); };
 	for (;;) {
 		std::map<Body::id_t, int> newBridges;
-		for (std::size_t i = 0; i < events.size(); ++i)
-			if (phys[i]) ++newBridges[events[i].id1], ++newBridges[events[i].id2];
-		std::map<Body::id_t, std::size_t> smallestAt; // each body's smallest too-small bridge (first in event order on ties)
-		for (std::size_t i = 0; i < events.size(); ++i) {
-			if (!phys[i]) continue;
-			// until now the bridge held its cap, the largest volume it may take (the Ip2's)
-			takes[i] = vb::takeFromFilms(vb::filmOffer(filmOf(events[i].id1), newBridges[events[i].id1]),
-			                             vb::filmOffer(filmOf(events[i].id2), newBridges[events[i].id2]), phys[i]->bridgeVolume);
+		for (std::size_t i = 0; i < formations.size(); ++i)
+			if (alive[i]) ++newBridges[formations[i].id1], ++newBridges[formations[i].id2];
+		std::map<Body::id_t, std::size_t> smallestAt; // each body's smallest too-small bridge (first in order on ties)
+		for (std::size_t i = 0; i < formations.size(); ++i) {
+			if (!alive[i]) continue;
+			const Formation& f = formations[i];
+			takes[i] = vb::takeFromFilms(vb::filmOffer(film(f.id1), newBridges[f.id1]), vb::filmOffer(film(f.id2), newBridges[f.id2]), f.cap);
 			if (!tooSmall(i)) continue;
-			for (const Body::id_t id : { events[i].id1, events[i].id2 })
+			for (const Body::id_t id : { f.id1, f.id2 })
 				if (auto [at, fresh] = smallestAt.emplace(id, i); !fresh && takes[i].volume < takes[at->second].volume) at->second = i;
 		}
 		if (smallestAt.empty()) return takes;
-		for (std::size_t i = 0; i < events.size(); ++i)
-			if (tooSmall(i) && smallestAt[events[i].id1] == i && smallestAt[events[i].id2] == i) {
-				phys[i]->bridge = false; // no liquid (first step after loading) or too little: a dry contact
-				phys[i]         = nullptr;
-			}
+		for (std::size_t i = 0; i < formations.size(); ++i)
+			if (tooSmall(i) && smallestAt[formations[i].id1] == i && smallestAt[formations[i].id2] == i) alive[i] = false;
 	}
 }
 
-void ViscBridgeLiquid::formBridges(const std::vector<BridgeEvent>& events)
+void ViscBridgeLiquid::formBridges(const std::vector<Formation>& formations, const FilmOf& film, const distributed::Ownership& own)
 {
-	std::vector<ViscBridgePhys*> phys(events.size(), nullptr);
-	for (std::size_t i = 0; i < events.size(); ++i) {
-		const BridgeEvent& e = events[i];
-		if (e.kind != BridgeEvent::Kind::formed) continue;
-		const shared_ptr<Interaction>& I  = scene->interactions->find(e.id1, e.id2);
-		auto*                          ph = I && I->isReal() ? dynamic_cast<ViscBridgePhys*>(I->phys.get()) : nullptr;
-		if (ph && ph->bridge) phys[i] = ph;
-	}
-	const std::vector<vb::FilmTake> takes = settleTakes(events, phys); // from the films as at the start of the step
-	for (std::size_t i = 0; i < events.size(); ++i) {
-		if (!phys[i]) continue;
-		if (takes[i].from1 > 0) addToFilm(events[i].id1, -takes[i].from1);
-		if (takes[i].from2 > 0) addToFilm(events[i].id2, -takes[i].from2);
-		giveBridgeVolume(*phys[i], takes[i].volume);
-		++formed;
+	std::vector<bool>               alive;
+	const std::vector<vb::FilmTake> takes = settleTakes(formations, film, alive);
+	auto                            ownFilm = [&](Body::id_t id) { return scene->bodies->exists(id) && own.body(*Body::byId(id, scene)); };
+	for (std::size_t i = 0; i < formations.size(); ++i) {
+		const Formation& f  = formations[i];
+		ViscBridgePhys*  ph = bridgeHere(f.id1, f.id2); // under mpy: null for a bridge of other ranks
+		if (!alive[i]) {
+			if (ph) ph->bridge = false; // no liquid (first step after loading) or too little: a dry contact
+			continue;
+		}
+		if (takes[i].from1 > 0 && ownFilm(f.id1)) addToFilm(f.id1, -takes[i].from1);
+		if (takes[i].from2 > 0 && ownFilm(f.id2)) addToFilm(f.id2, -takes[i].from2);
+		if (ph) giveBridgeVolume(*ph, takes[i].volume);
+		if (own.pair(f.id1, f.id2, scene)) ++formed; // once over the ranks
 	}
 }
 
-void ViscBridgeLiquid::returnLiquid(const std::vector<BridgeEvent>& events)
+void ViscBridgeLiquid::returnLiquid(const std::vector<BridgeEvent>& events, const distributed::Ownership& own)
 {
 	for (const BridgeEvent& e : events) {
 		if (e.kind != BridgeEvent::Kind::ruptured || !(e.volume > 0)) continue;
@@ -140,9 +151,10 @@ void ViscBridgeLiquid::returnLiquid(const std::vector<BridgeEvent>& events)
 			return s ? s->radius : Real(0);
 		};
 		const Real share1 = vb::ruptureShare1(split, radius(b1), radius(b2));
-		if (share1 > 0) addToFilm(e.id1, share1 * e.volume);
-		if (share1 < 1) addToFilm(e.id2, (1 - share1) * e.volume);
-		++ruptured;
+		// under mpy both ranks of a bridge between them see it rupture: each gives its own body its share
+		if (share1 > 0 && own.body(*b1)) addToFilm(e.id1, share1 * e.volume);
+		if (share1 < 1 && own.body(*b2)) addToFilm(e.id2, (1 - share1) * e.volume);
+		if (own.pair(e.id1, e.id2, scene)) ++ruptured;
 	}
 }
 

@@ -5,10 +5,12 @@
 // two, the total liquid does not change.
 #pragma once
 #include "viscbridge/core/liquid/FilmExchange.hpp"
+#include "viscbridge/distributed/Distributed.hpp"
 #include "viscbridge/yade/AttributeRollback.hpp"
 #include "viscbridge/yade/BridgeEvent.hpp"
 #include "viscbridge/yade/FilmSource.hpp"
 #include <core/GlobalEngine.hpp>
+#include <functional>
 #include <map>
 #include <vector>
 
@@ -23,13 +25,29 @@ class ViscBridgeLiquid : public GlobalEngine, public FilmSource {
 
 	void restoreLiquidModel(); // after loading: the Ip2s and the bridges are 'film' again (not saved)
 
-	void formBridges(const std::vector<BridgeEvent>& events);
-	// the volume each new bridge takes (L1, L2, L5); drops (bridge = false, phys null) those that cannot form
-	std::vector<viscbridge::FilmTake> settleTakes(const std::vector<BridgeEvent>& events, std::vector<ViscBridgePhys*>& phys);
-	void returnLiquid(const std::vector<BridgeEvent>& events);
+	// A bridge that formed in the step: its bodies and the largest volume it may take (the Ip2's cap).
+	struct Formation {
+		Body::id_t id1, id2;
+		Real       cap;
+	};
+	using FilmOf = std::function<Real(Body::id_t)>;
+	std::vector<Formation> formationsHere(const std::vector<BridgeEvent>& events) const;
+	void formBridges(const std::vector<Formation>& formations, const FilmOf& film, const distributed::Ownership& own);
+	// the volume each new bridge takes (L1, L2, L5); `alive` false for those that cannot form
+	std::vector<viscbridge::FilmTake> settleTakes(const std::vector<Formation>& formations, const FilmOf& film, std::vector<bool>& alive) const;
+	void returnLiquid(const std::vector<BridgeEvent>& events, const distributed::Ownership& own);
 	void giveBridgeVolume(ViscBridgePhys& ph, Real volume); // and the constants that follow from it (L4)
-	Real filmOf(Body::id_t id) const;                      // 0 for a body without film or gone
+	ViscBridgePhys* bridgeHere(Body::id_t id1, Body::id_t id2) const; // the new bridge's physics, if this rank holds it
+	Real filmOf(Body::id_t id) const;                                  // 0 for a body without film or gone
 	void addToFilm(Body::id_t id, Real volume);
+
+	// [MPI] ViscBridgeLiquidOverRanks.cpp (physics.md L8): every rank settles the whole scene's
+	// formations of the step from their owners' films, and changes the films of its own bodies.
+	void actOverRanks(const std::vector<BridgeEvent>& events);
+	std::vector<Formation> formationsOverRanks(const std::vector<BridgeEvent>& events, std::map<Body::id_t, Real>& films, bool& anyRupture) const;
+	void refreshMirrorFilms();      // the mirrors' films from their owners, for the law's next step
+	void refuseFilmsOfTheMaster(); // a master's body whose film would change: the workers cannot update it
+	bool masterChecked = false;    // refuseFilmsOfTheMaster done for this split
 
 public:
 	void action() override;

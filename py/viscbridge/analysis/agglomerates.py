@@ -163,19 +163,29 @@ def _edges_over_ranks(node, min_force, min_volume):
     """edges_of_scene of a scene yade.mpy has split: each rank gives the members it owns and the
     bridges that touch one (a bridge between two workers' spheres is computed on both, with the same
     values, and counted once; the master's copies of the workers' spheres are stale and give
-    nothing), every rank joins the parts."""
+    nothing), every rank joins the parts; the liquid per member from the collective
+    viscbridge.liquid.distribution()."""
     from yade import O
+    from .. import liquid
     from .. import mpi
     me = mpi.rank()
     own = {b.id for b in O.bodies if b is not None and b.subdomain == me}
-    if any(hasattr(O.bodies[m].state, 'film') for m in own if node.get(m) is not None):
-        mpi.require_whole_scene('viscbridge.agglomerates (the liquid per agglomerate)')
     members = [(m, O.bodies[m].state.mass) for m in sorted(own) if node.get(m) == m]
     touching = [I for I in O.interactions if I.isReal and (I.id1 in own or I.id2 in own)]
-    parts = mpi.allgather((members, _bridges(touching, node, min_force, min_volume)))
-    members = sorted(m for part, _ in parts for m in part)
-    edges = sorted({tuple(sorted(e)) for _, part in parts for e in part})
-    return [m for m, _ in members], edges, [mass for _, mass in members], None
+    with_liquid = any(hasattr(O.bodies[m].state, 'film') for m in own if node.get(m) is not None)
+    parts = mpi.allgather((members, _bridges(touching, node, min_force, min_volume), with_liquid))
+    members = sorted(m for part, _, _ in parts for m in part)
+    edges = sorted({tuple(sorted(e)) for _, part, _ in parts for e in part})
+    ids = [m for m, _ in members]
+    if not any(wet for _, _, wet in parts):
+        return ids, edges, [mass for _, mass in members], None
+    spread = liquid.distribution()  # a collective: every rank takes this branch
+    per_member = numpy.zeros(len(ids))
+    index = {m: k for k, m in enumerate(ids)}
+    for i, volume in zip(spread.ids.tolist(), spread.liquid.tolist()):
+        if i in index:
+            per_member[index[i]] += volume
+    return ids, edges, [mass for _, mass in members], per_member
 
 
 def agglomerates(scene=None, min_force=0.0, min_volume=0.0):
