@@ -17,7 +17,7 @@ ranks, the initial kinetic energy and the bridges.  Options (after OUT):
                   master's bodies on the master only)
   --measure-split run without merging, then call the scene's measures on every rank: agglomerates
                   (a collective: the whole scene's, recorded, and rank 0's of the merged scene after
-                  mp.mergeScene()); liquid and VTK (each must refuse: a rank holds only its share)
+                  mp.mergeScene()); the liquid's totals and distribution (collectives) and VTK (must refuse)
   --history       an AgglomerateHistory recorder every 50 steps (OUT.agglomerates.csv, written by rank 0;
                   its rows recorded on every rank)
   --events        the test engine ViscBridgeEventCounter after the interaction loop (its counts per rank)
@@ -146,18 +146,18 @@ try:
         import viscbridge.vtk as vtk
         split = viscbridge.agglomerates()
         result['splitAgglomerates'] = agglomerate_record(split)
-        refused = {}
-        for name, call in (('total', liquid.total),
-                           ('distribution', liquid.distribution), ('write_particles', lambda: vtk.write_particles(args.out + '.vtp'))):
-            try:
-                call()
-                refused[name] = None
-            except RuntimeError as error:
-                refused[name] = str(error)
-        result['refused'] = refused
+        spread = liquid.distribution()  # collectives: the whole scene's on every rank
+        result['splitLiquid'] = [liquid.total(), liquid.in_bridges(), spread.ids.tolist(), spread.liquid.tolist()]
+        try:
+            vtk.write_particles(args.out + '.vtp')
+            result['refused'] = None
+        except RuntimeError as error:
+            result['refused'] = str(error)
         mp.mergeScene()  # so that every rank ends together
         if me == 0:
             result['mergedAgglomerates'] = agglomerate_record(viscbridge.agglomerates())
+            spread = liquid.distribution()
+            result['mergedLiquid'] = [liquid.total(), liquid.in_bridges(), spread.ids.tolist(), spread.liquid.tolist()]
     elif args.mismatch:
         run(5)
         if me == 1:

@@ -8,7 +8,7 @@ holds the merged scene at the end, also the spheres' positions and velocities, O
 the ranks and the guard's checks.  Options (after OUT):
   --steps N   --integration explicit|implicit   --tolerance TOL (implicit)
   --no-boundary-motion  without the ViscBridgeBoundaryMotion decompose() adds (must be refused)
-  --liquid fixed|film  --wet-fraction F (film)  --history N: an AgglomerateHistory every N steps
+  --liquid fixed|film  --wet-fraction F (film)  --reallocate N (mpy's REALLOCATE_FREQUENCY)  --history N: an AgglomerateHistory every N steps
   (OUT.csv, written by rank 0) and the liquid's total and CoV, measured on every rank at the same
   steps by a PyRunner (collectives while the scene is split)
 """
@@ -32,12 +32,14 @@ ap.add_argument('--no-boundary-motion', action='store_true')
 ap.add_argument('--liquid', default='fixed')
 ap.add_argument('--wet-fraction', type=float, default=0.15)
 ap.add_argument('--history', type=int, default=0)
+ap.add_argument('--reallocate', type=int, default=0, help="mpy's REALLOCATE_FREQUENCY")
 args = ap.parse_args(sys.argv[1:])
 
 distributed = viscbridge.mpi.ranks() > 1
 if distributed:
     from yade import mpy as mp
     mp.VERBOSE_OUTPUT = False
+    mp.REALLOCATE_FREQUENCY = args.reallocate
 
 r = 1e-3
 film = {'wetFraction': args.wet_fraction} if args.liquid == 'film' else {}
@@ -48,6 +50,7 @@ viscbridge.mpi.decompose(axis=0)
 if args.no_boundary_motion:
     O.engines = [e for e in O.engines if not isinstance(e, yw.ViscBridgeBoundaryMotion)]
 
+assigned = {i: O.bodies[i].subdomain for i in drum.spheres} if distributed else {}
 me = viscbridge.mpi.rank()
 result = dict(rank=me, ranks=viscbridge.mpi.ranks(), error=None, liquid=[])
 if args.history:
@@ -93,6 +96,7 @@ if result['error'] is None:
         result['time'] = O.time
         result['guardChecks'] = next(e.checks for e in O.engines if isinstance(e, yw.ViscBridgeGuard))
         result['bridges'] = sum(1 for i in O.interactions if i.isReal and i.phys.bridge)
+        result['reassigned'] = sum(1 for i, d in assigned.items() if O.bodies[i].subdomain != d)  # by mpy's reallocation
         result['films'] = [getattr(b.state, 'film', 0.0) for b in spheres]
         result['bridgeVolumes'] = sorted([i.id1, i.id2, i.phys.bridgeVolume] for i in O.interactions if i.isReal and i.phys.bridge)
         if args.history:

@@ -8,6 +8,7 @@ over the ranks that closes to 1 %, the serial guard's diagnosis, and must refuse
 between the ranks — on every rank, without hanging.
 """
 import json
+import math
 import os
 import shutil
 import signal
@@ -259,8 +260,9 @@ def test_the_scenes_measures_of_a_split_scene_are_the_whole_scenes_or_refused():
     """While the scene is split (after mp.mpirun without merging), a rank holds only its share of the
     bodies and interactions.  viscbridge.agglomerates() gathers the whole scene's on every rank: the
     same ids, labels and coordination as rank 0 finds on the merged scene at the same step, with
-    bridges between the two workers' spheres.  The liquid's totals and the VTK writers refuse on
-    every rank, naming the function and what to do, instead of answering for one rank's part."""
+    bridges between the two workers' spheres; so do the liquid's totals and distribution (each bridge
+    between two workers counted once).  The VTK writers refuse on every rank, naming the function
+    and what to do, instead of writing one rank's part."""
     results = run_case(3, '--measure-split', '--steps', '150')
     assert [r['rank'] for r in results] == [0, 1, 2]
     merged = results[0]['mergedAgglomerates']
@@ -269,9 +271,13 @@ def test_the_scenes_measures_of_a_split_scene_are_the_whole_scenes_or_refused():
     for r in results:
         assert r['error'] is None, r
         assert r['splitAgglomerates'] == merged, r['rank']
-        for name, message in r['refused'].items():
-            assert message and 'split over the 3 ranks of yade.mpy' in message and 'withMerge=True' in message, (name, r)
-    assert 'viscbridge.vtk.write_particles' in results[2]['refused']['write_particles']
+        total, in_bridges, ids, per_sphere = r['splitLiquid']
+        assert in_bridges > 0 and math.isclose(total, results[0]['mergedLiquid'][0], rel_tol=1e-14), (r['rank'], total)
+        assert ids == results[0]['mergedLiquid'][2] and len(ids) == 40
+        assert max(abs(a - b) for a, b in zip(per_sphere, results[0]['mergedLiquid'][3])) <= 1e-14 * total
+        message = r['refused']
+        assert message and 'split over the 3 ranks of yade.mpy' in message and 'withMerge=True' in message, r
+    assert 'viscbridge.vtk.write_particles' in results[2]['refused']
 
 
 def test_an_agglomerate_history_over_the_ranks_is_the_serial_one():

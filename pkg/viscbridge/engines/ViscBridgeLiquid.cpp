@@ -28,7 +28,8 @@ void ViscBridgeLiquid::action()
 	if (restoredIn != scene) restoreLiquidModel();
 	const std::vector<BridgeEvent>& events = ViscBridgeContext::of(scene).events(scene->iter);
 	if (distributed::active(scene)) return actOverRanks(events); // [MPI] a collective, also without events here
-	masterChecked = false;
+	masterChecked  = false;
+	ownedSignature = 0;
 	if (events.empty()) return;
 	const auto own = distributed::ownership(scene);
 	formBridges(formationsHere(events), [this](Body::id_t id) { return filmOf(id); }, own); // films as at the start of the step (L1)

@@ -20,8 +20,13 @@ void ViscBridgeLiquid::actOverRanks(const std::vector<BridgeEvent>& events)
 	if (!masterChecked) distributed::collectively(scene, [&] { refuseFilmsOfTheMaster(); });
 	masterChecked = true;
 	std::map<Body::id_t, Real>   films;
-	bool                         anyRupture = false;
-	const std::vector<Formation> formations = formationsOverRanks(events, films, anyRupture);
+	bool                         anyRupture = false, moved = false;
+	const std::vector<Formation> formations = formationsOverRanks(events, films, anyRupture, moved);
+	if (moved) // on every rank at once: the same gathered flags
+		throw std::runtime_error("ViscBridgeLiquid: yade.mpy moved bodies between ranks (mp.REALLOCATE_FREQUENCY > 0, or migrateBodies) "
+		                         "in a scene whose bridges take their liquid from the films: a moved body's bridges are created anew "
+		                         "on its new rank, which would take their liquid from the films a second time. Keep "
+		                         "mp.REALLOCATE_FREQUENCY = 0 (mpy's default) with liquidModel='film'.");
 	const auto                   own        = distributed::ownership(scene);
 	auto film = [&films](Body::id_t id) { // a body no rank gave: a master's, whose film is 0 (refuseFilmsOfTheMaster)
 		const auto at = films.find(id);
@@ -33,27 +38,30 @@ void ViscBridgeLiquid::actOverRanks(const std::vector<BridgeEvent>& events)
 }
 
 std::vector<ViscBridgeLiquid::Formation>
-ViscBridgeLiquid::formationsOverRanks(const std::vector<BridgeEvent>& events, std::map<Body::id_t, Real>& films, bool& anyRupture) const
+ViscBridgeLiquid::formationsOverRanks(const std::vector<BridgeEvent>& events, std::map<Body::id_t, Real>& films, bool& anyRupture, bool& moved)
 {
-	// This rank's part: [formations, (id1, id2, cap)..., films, (id, film)..., ruptures], the films
+	// This rank's part: [formations, (id1, id2, cap)..., films, (id, film)..., ruptures, moved], the films
 	// of its own bodies among the formations' (ids travel as doubles: exact below 2^53).
 	const auto                   own  = distributed::ownership(scene);
 	const std::vector<Formation> here = formationsHere(events);
 	std::vector<double>          mine { double(here.size()) };
-	std::vector<Body::id_t>      owned;
+	std::vector<Body::id_t>      givers;
 	for (const Formation& f : here) {
 		mine.insert(mine.end(), { double(f.id1), double(f.id2), double(f.cap) });
 		for (const Body::id_t id : { f.id1, f.id2 })
-			if (own.body(*Body::byId(id, scene))) owned.push_back(id);
+			if (own.body(*Body::byId(id, scene))) givers.push_back(id);
 	}
-	std::sort(owned.begin(), owned.end());
-	owned.erase(std::unique(owned.begin(), owned.end()), owned.end());
-	mine.push_back(double(owned.size()));
-	for (const Body::id_t id : owned)
+	std::sort(givers.begin(), givers.end());
+	givers.erase(std::unique(givers.begin(), givers.end()), givers.end());
+	mine.push_back(double(givers.size()));
+	for (const Body::id_t id : givers)
 		mine.insert(mine.end(), { double(id), double(filmOf(id)) });
 	mine.push_back(double(std::count_if(events.begin(), events.end(), [](const BridgeEvent& e) {
 		return e.kind == BridgeEvent::Kind::ruptured && e.volume > 0;
 	})));
+	const size_t owned = distributed::ownedBodiesSignature(scene); // changed: mpy moved bodies between ranks
+	mine.push_back(double(ownedSignature != 0 && owned != ownedSignature));
+	ownedSignature = owned;
 
 	const std::vector<double> all = distributed::allGatherJoined(scene, mine);
 	std::vector<Formation>    formations;
@@ -65,6 +73,7 @@ ViscBridgeLiquid::formationsOverRanks(const std::vector<BridgeEvent>& events, st
 		for (size_t k = 0; k < nFilms; ++k, at += 2)
 			films[static_cast<Body::id_t>(all[at])] = all[at + 1];
 		anyRupture = anyRupture || all[at++] > 0;
+		moved      = moved || all[at++] > 0;
 	}
 	// a bridge between two ranks came from both, equal: once, in the serial events' order (by ids)
 	std::sort(formations.begin(), formations.end(), [](const Formation& a, const Formation& b) {
