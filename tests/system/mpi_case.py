@@ -44,6 +44,7 @@ ap.add_argument('--speed', type=float, default=0.3)
 ap.add_argument('--tolerance', type=float, default=None)
 ap.add_argument('--dt', type=float, default=None)
 ap.add_argument('--rayleigh-fraction', type=float, default=None)
+ap.add_argument('--accuracy', type=float, default=None)
 ap.add_argument('--no-guard', action='store_true')
 ap.add_argument('--mismatch', action='store_true')
 ap.add_argument('--no-decompose', action='store_true')
@@ -73,10 +74,12 @@ def build():
         for e in O.engines:
             if isinstance(e, yw.ViscBridgeImplicitSolver):
                 e.tolerance = args.tolerance
-    if args.rayleigh_fraction:
-        for e in O.engines:
-            if isinstance(e, yw.ViscBridgeTimeStepper):
+    for e in O.engines:
+        if isinstance(e, yw.ViscBridgeTimeStepper):
+            if args.rayleigh_fraction:
                 e.rayleighFraction = args.rayleigh_fraction
+            if args.accuracy:
+                e.accuracy = args.accuracy
     if args.events:
         loop = next(i for i, e in enumerate(O.engines) if isinstance(e, yw.InteractionLoop))
         O.engines = O.engines[:loop + 1] + [yw.ViscBridgeEventCounter(label='eventCounter')] + O.engines[loop + 1:]

@@ -256,6 +256,21 @@ def test_a_moving_wall_without_boundary_motion_is_refused_on_every_rank(how):
         assert 'viscbridge.mpi.decompose() adds the engine' in results[0]['error']
 
 
+@pytest.mark.parametrize('options, refused', [
+    (('--integration', 'implicit', '--accuracy', '1e-2'), 'ViscBridgeTimeStepper.accuracy=0.01 is not available under yade.mpy'),
+    (('--integration', 'auto'), 'ViscBridgeTimeStepper.autoIntegration=True is not available under yade.mpy')])
+def test_accuracy_and_the_automatic_scheme_are_refused_on_every_rank(options, refused):
+    """The error estimate's carried parts do not cross the ranks (it would be smaller than serially,
+    the step larger, without a word), and the choice of scheme rests on it: both stop the first step
+    on every rank, saying what is allowed instead — 3 times in a row, none hanging."""
+    for attempt in range(3):
+        _cache.clear()
+        results = run_case_stopping_at_the_first_step(3, *options, '--steps', '20')
+        for r in results:
+            assert r['error'] and refused in r['error'] and 'allowed there' in r['error'], (attempt, r)
+            assert r['iter'] <= 1
+
+
 def test_the_scenes_measures_of_a_split_scene_are_the_whole_scenes_or_refused():
     """While the scene is split (after mp.mpirun without merging), a rank holds only its share of the
     bodies and interactions.  viscbridge.agglomerates() gathers the whole scene's on every rank: the

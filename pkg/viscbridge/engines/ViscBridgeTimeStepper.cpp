@@ -191,6 +191,7 @@ void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 			validateScene(sc, false);
 			validatedSignature = signature;
 		}
+		if (accuracy > 0) refuseAccuracyOverRanks(sc);
 	});
 	const Real accuracyLimit = accuracyStep(sc); // the last step's error, before anything changes dt
 	const bool due = lastUpdateIter < 0 || sc->iter - lastUpdateIter >= std::min(updateInterval, fullUpdateCap());

@@ -267,6 +267,19 @@ void ViscBridgeTimeStepper::requireSchemeEngines(Scene* sc) const
 		                            "(choose Law2_ScGeom_ViscBridgePhys_HertzViscous.integration yourself).");
 }
 
+void ViscBridgeTimeStepper::refuseAccuracyOverRanks(Scene* sc) const
+{
+	// The estimate's carried parts (A1b offsets, A1c/A1e carried and history errors) travel through
+	// the bridges, and the solver does not yet exchange them between ranks: without them the
+	// estimate would be smaller than the serial run's, and the step larger, without a word.
+	if (distributed::active(sc))
+		throw std::invalid_argument("ViscBridgeTimeStepper.accuracy=" + viscbridge::formatValue(accuracy)
+		                            + " is not available under yade.mpy (its error estimate is not yet carried across the ranks); "
+		                              "allowed there: accuracy=0 (the stability limit, with the safety factor). To know what a "
+		                              "tolerance costs, run the scene or a smaller one with accuracy in one process (threads: -j) "
+		                              "and fix the step it finds with maxDt.");
+}
+
 // A5, decided after this step's dt is set (the law has already run this step with the scheme in
 // use; the other one takes over from the next step, whose full update computes its limit).
 void ViscBridgeTimeStepper::chooseScheme(Scene* sc, Real accuracyStepNow)
