@@ -25,7 +25,8 @@ writes, every 1000 steps and at the end of every run, three VTK XML PolyData fil
 
 A run that ends between two periods (``O.run(n)``, ``O.stopAtTime`` as in ``Drum.run``) ends with
 its own frame, and so does a run stopped by Ctrl-C or SIGTERM (:func:`flush`); no step is written
-twice.
+twice.  Under yade.mpy each rank writes its piece of a frame of the split scene and the collections
+list the pieces as the frame's parts (docs/cluster.md).
 """
 import atexit
 import math
@@ -38,7 +39,7 @@ import xml.etree.ElementTree as ET
 from .liquid import in_bridge as _liquid  # a contact's liquid: 0 without a bridge
 from .measures import bridge_segments as _bridges  # the bridges' end points (measures.py)
 
-__all__ = ['write_bridges', 'write_particles', 'write_boundary', 'BridgeSeries', 'bridge_recorder', 'flush']
+__all__ = ['write_bridges', 'write_particles', 'write_boundary', 'piece_path', 'BridgeSeries', 'bridge_recorder', 'flush']
 
 from ._registry import RECORD
 
@@ -90,11 +91,29 @@ def _cells(piece, tag, sizes):
     _array(cells, 'offsets', offsets, kind='Int64')
 
 
+def _split_rank():
+    """This rank while yade.mpy has the scene split, else None."""
+    from . import mpi
+    return mpi.rank() if mpi.is_split() else None
+
+
+def piece_path(path, rank):
+    """The file a rank of a split scene writes for `path` (``a.vtp`` -> ``a.rank<k>.vtp``)."""
+    root, ext = os.path.splitext(path)
+    return '%s.rank%d%s' % (root, rank, ext or '.vtp')
+
+
 def write_bridges(path, only_bridges=False):
-    """Write the current ViscBridge interactions of O to `path` (.vtp); returns their number."""
-    from .mpi import require_whole_scene
-    require_whole_scene('viscbridge.vtk.write_bridges')
+    """Write the current ViscBridge interactions of O to `path` (.vtp); returns their number.  While
+    yade.mpy has the scene split, every rank writes its own piece, :func:`piece_path` (`path`, rank):
+    the interactions it accounts for (one between two ranks' bodies on the higher rank, so that the
+    pieces hold each once); no communication."""
+    me = _split_rank()
     rows = _bridges(only_bridges)
+    if me is not None:
+        from yade import O
+        rows = [r for r in rows if max(O.bodies[r[3].id1].subdomain, O.bodies[r[3].id2].subdomain) == me]
+        path = piece_path(path, me)
     root, piece = _piece(points=2 * len(rows), lines=len(rows))
     _array(ET.SubElement(piece, 'Points'), 'Points', [c for a, b, _, _ in rows for c in (*a, *b)], 3)
     _cells(piece, 'Lines', [2] * len(rows))
@@ -124,17 +143,20 @@ def write_particles(path):
     [m³] (0 without a film), ``liquid`` (film + its share of each bridge, :func:`viscbridge.liquid.distribution`),
     ``agglomerate`` (label of its agglomerate, 0 = largest; -1 for a sphere that is not a member:
     fixed) and ``id``; returns their number.  In ParaView: Glyph (sphere, scale by radius) coloured
-    by liquid or agglomerate."""
-    from .mpi import require_whole_scene
-    require_whole_scene('viscbridge.vtk.write_particles')
+    by liquid or agglomerate.  While yade.mpy has the scene split, a collective (the liquid and the
+    agglomerates are the whole scene's): every rank writes its own spheres to
+    :func:`piece_path` (`path`, rank)."""
     from yade import O
     import yade.wrapper as yw
     from . import liquid
     from .analysis.agglomerates import agglomerates
-    spheres = [b for b in O.bodies if b is not None and isinstance(b.shape, yw.Sphere)]
+    me = _split_rank()
+    spheres = [b for b in O.bodies if b is not None and isinstance(b.shape, yw.Sphere) and (me is None or b.subdomain == me)]
     spread = liquid.distribution()
     per_sphere = dict(zip(spread.ids.tolist(), spread.liquid.tolist()))
     groups = agglomerates()
+    if me is not None:
+        path = piece_path(path, me)
 
     def label(b):
         try:
@@ -192,6 +214,12 @@ def _extent(bodies, walls):
     return [(lo[k], hi[k]) if lo[k] <= hi[k] else None for k in range(3)]
 
 
+def _joined(ranges):
+    """The (low, high) spanning the given ones (None: unbounded there), None if all are."""
+    ranges = [r for r in ranges if r is not None]
+    return (min(r[0] for r in ranges), max(r[1] for r in ranges)) if ranges else None
+
+
 def _wall_rectangle(w, extent):
     """The rectangle of the infinite plane of wall `w` that spans `extent` on its other two axes
     (None if nothing bounds them)."""
@@ -213,12 +241,20 @@ def write_boundary(path):
     triangle, every box as its six faces, every wall — an infinite plane — as the rectangle of its
     plane that spans the other bodies (spheres, facets, boxes) and the planes of the other walls;
     cell data ``id`` (the body) and ``shape`` (``FACET`` 1, ``WALL`` 2, ``BOX`` 3).  A wall with nothing
-    to span (a scene of walls alone) and other shapes are left out.  Returns the number of polygons."""
+    to span (a scene of walls alone) and other shapes are left out.  Returns the number of polygons.
+    While yade.mpy has the scene split, a collective: every rank writes its own bodies (the master's
+    walls and facets; the span of every rank's) to :func:`piece_path` (`path`, rank)."""
     from yade import O
     import yade.wrapper as yw
-    bodies = [b for b in O.bodies if b is not None]
+    me = _split_rank()
+    bodies = [b for b in O.bodies if b is not None and (me is None or b.subdomain == me)]
     walls = [b for b in bodies if isinstance(b.shape, yw.Wall)]
     extent = _extent([b for b in bodies if not isinstance(b.shape, yw.Wall)], walls)
+    if me is not None:  # a collective: the extent of every rank's own bodies, this rank's piece
+        from . import mpi
+        everyone = mpi.allgather(extent)
+        extent = [_joined([part[k] for part in everyone]) for k in range(3)]
+        path = piece_path(path, me)
     polygons = []  # (corners, id, shape)
     for b in bodies:
         if isinstance(b.shape, yw.Facet):
@@ -246,7 +282,11 @@ _WRITERS = {'particles': write_particles, 'boundary': write_boundary}  # and the
 class BridgeSeries:
     """Frames of the scene in files ``<prefix><kind>.<iter>.vtp`` and their collections
     ``<prefix><kind>.pvd`` that give ParaView their simulated times; the kinds are ``bridges``, and
-    ``particles`` and ``boundary`` if asked.  ``frames``: (time, iteration) of each frame written."""
+    ``particles`` and ``boundary`` if asked.  ``frames``: (time, iteration, pieces) of each frame
+    written; pieces 0 for one file, N for a frame of a scene split over N ranks of yade.mpy, each rank
+    writing its piece ``<prefix><kind>.<iter>.rank<k>.vtp`` and the collection listing them as parts of
+    the frame (ParaView shows them as one).  Under mpiexec a whole scene (before the split, or merged
+    on rank 0) is written by rank 0 alone, and rank 0 writes the collections."""
 
     def __init__(self, prefix, only_bridges=False, particles=True, boundary=True):
         self.prefix, self.only_bridges = prefix, only_bridges
@@ -263,11 +303,14 @@ class BridgeSeries:
         scene and run in another process (O.load), which adds frames to the same collections."""
         series = cls(prefix, only_bridges, particles, boundary)
         collection = prefix + 'bridges.pvd'
+        frames = {}
         if os.path.exists(collection):
             for entry in ET.parse(collection).getroot().iter('DataSet'):
-                found = re.search(r'\.(\d+)\.vtp$', entry.get('file', ''))
+                found = re.search(r'\.(\d+)(\.rank\d+)?\.vtp$', entry.get('file', ''))
                 if found:
-                    series.frames.append((float(entry.get('timestep')), int(found.group(1))))
+                    _, pieces = frames.get(int(found.group(1)), (0, 0))
+                    frames[int(found.group(1))] = (float(entry.get('timestep')), pieces + 1 if found.group(2) else 0)
+        series.frames = [(t, iteration, pieces) for iteration, (t, pieces) in sorted(frames.items())]
         return series
 
     def last_step(self):
@@ -290,13 +333,17 @@ class BridgeSeries:
                 'earlier and run on from there before, or the series belongs to another run. A run branched from a saved '
                 'state needs a series of its own: remove the recorder whose command names this prefix from O.engines and '
                 'make a new vtk.bridge_recorder(...) with another prefix.' % (self.prefix, self.last_step(), iteration))
-        for kind in self.kinds:
-            if kind == 'bridges':
-                write_bridges(self.path(kind, iteration), self.only_bridges)
-            else:
-                _WRITERS[kind](self.path(kind, iteration))
-        self.frames = [f for f in self.frames if f[1] != iteration] + [(time_, iteration)]
-        self._write_collections()
+        from . import mpi
+        pieces = mpi.ranks() if mpi.is_split() else 0
+        if pieces or mpi.rank() == 0:  # under mpiexec, a whole scene is rank 0's to write
+            for kind in self.kinds:
+                if kind == 'bridges':
+                    write_bridges(self.path(kind, iteration), self.only_bridges)
+                else:
+                    _WRITERS[kind](self.path(kind, iteration))
+        self.frames = [f for f in self.frames if f[1] != iteration] + [(time_, iteration, pieces)]
+        if mpi.rank() == 0:
+            self._write_collections()
         return self.path('bridges', iteration)
 
     def recording(self):
@@ -310,9 +357,11 @@ class BridgeSeries:
             root = ET.Element('VTKFile', type='Collection', version='0.1', byte_order='LittleEndian')
             coll = ET.SubElement(root, 'Collection')
             base = os.path.dirname(os.path.abspath(collection))
-            for t, iteration in self.frames:
-                ET.SubElement(coll, 'DataSet', timestep=repr(t) if math.isfinite(t) else '0', group='', part='0',
-                              file=os.path.relpath(os.path.abspath(self.path(kind, iteration)), base))
+            for t, iteration, pieces in self.frames:
+                path = self.path(kind, iteration)
+                for part, file in enumerate([piece_path(path, k) for k in range(pieces)] if pieces else [path]):
+                    ET.SubElement(coll, 'DataSet', timestep=repr(t) if math.isfinite(t) else '0', group='', part=str(part),
+                                  file=os.path.relpath(os.path.abspath(file), base))
             _write(root, collection)
 
 
@@ -377,6 +426,9 @@ def flush():
     run stopped by an exception in an engine (the guard) gets its frame at the exit, or where you
     call flush() if the script goes on."""
     from yade import O
+    from . import mpi
+    if mpi.is_split():  # writing a split scene is a collective, and the ranks stop one by one
+        return []
     live = [s for s in _SERIES.values() if s.recording()]
     if live:
         _let_the_step_finish(O)

@@ -8,7 +8,8 @@ holds the merged scene at the end, also the spheres' positions and velocities, O
 the ranks and the guard's checks.  Options (after OUT):
   --steps N   --integration explicit|implicit   --tolerance TOL (implicit)
   --no-boundary-motion  without the ViscBridgeBoundaryMotion decompose() adds (must be refused)
-  --liquid fixed|film  --wet-fraction F (film)  --reallocate N (mpy's REALLOCATE_FREQUENCY)  --history N: an AgglomerateHistory every N steps
+  --n SPHERES (150; above, a drum of 16 mm)  --vtk N: a bridge_recorder (bridges, particles, boundary) every N steps, its last frame summed up
+  by rank 0 in the result  --liquid fixed|film  --wet-fraction F (film)  --reallocate N (mpy's REALLOCATE_FREQUENCY)  --history N: an AgglomerateHistory every N steps
   (OUT.csv, written by rank 0) and the liquid's total and CoV, measured on every rank at the same
   steps by a PyRunner (collectives while the scene is split)
 """
@@ -29,9 +30,11 @@ ap.add_argument('--steps', type=int, default=1500)
 ap.add_argument('--integration', default='implicit')
 ap.add_argument('--tolerance', type=float, default=None)
 ap.add_argument('--no-boundary-motion', action='store_true')
+ap.add_argument('--n', type=int, default=150)
 ap.add_argument('--liquid', default='fixed')
 ap.add_argument('--wet-fraction', type=float, default=0.15)
 ap.add_argument('--history', type=int, default=0)
+ap.add_argument('--vtk', type=int, default=0, help='a viscbridge.vtk.bridge_recorder every N steps')
 ap.add_argument('--reallocate', type=int, default=0, help="mpy's REALLOCATE_FREQUENCY")
 args = ap.parse_args(sys.argv[1:])
 
@@ -43,7 +46,7 @@ if distributed:
 
 r = 1e-3
 film = {'wetFraction': args.wet_fraction} if args.liquid == 'film' else {}
-drum = scenes.drum(radius=r, drumRadius=12 * r, n=150, froude=0.3, liquidModel=args.liquid, integration=args.integration, **film)
+drum = scenes.drum(radius=r, drumRadius=(12 if args.n <= 150 else 16) * r, n=args.n, froude=0.3, liquidModel=args.liquid, integration=args.integration, **film)
 if args.tolerance:
     next(e for e in O.engines if isinstance(e, yw.ViscBridgeImplicitSolver)).tolerance = args.tolerance
 viscbridge.mpi.decompose(axis=0)
@@ -51,6 +54,9 @@ if args.no_boundary_motion:
     O.engines = [e for e in O.engines if not isinstance(e, yw.ViscBridgeBoundaryMotion)]
 
 assigned = {i: O.bodies[i].subdomain for i in drum.spheres} if distributed else {}
+if args.vtk:
+    import viscbridge.vtk
+    O.engines = O.engines + [viscbridge.vtk.bridge_recorder(args.out + '-', iterPeriod=args.vtk)]
 me = viscbridge.mpi.rank()
 result = dict(rank=me, ranks=viscbridge.mpi.ranks(), error=None, liquid=[])
 if args.history:
@@ -102,5 +108,25 @@ if result['error'] is None:
         if args.history:
             result['finalLiquid'] = liquid.total()
             result['history'] = history.rows
+
+
+def last_vtk_frame():
+    """Of each kind, the last frame of the collection as ParaView reads it: its pieces and their data
+    arrays joined (the files of a split frame hold each body and interaction once)."""
+    import xml.etree.ElementTree as ET
+    frame = {}
+    for kind in ('bridges', 'particles', 'boundary'):
+        entries = list(ET.parse('%s-%s.pvd' % (args.out, kind)).getroot().iter('DataSet'))
+        last = [e for e in entries if e.get('timestep') == entries[-1].get('timestep')]
+        arrays = {}
+        for e in last:
+            for a in ET.parse(os.path.join(os.path.dirname(args.out), e.get('file'))).getroot().iter('DataArray'):
+                arrays.setdefault(a.get('Name'), []).extend(float(x) for x in (a.text or '').split())
+        frame[kind] = dict(pieces=[e.get('part') for e in last], frames=len({e.get('timestep') for e in entries}), arrays=arrays)
+    return frame
+
+
+if args.vtk and me == 0 and result['error'] is None:
+    result['vtk'] = last_vtk_frame()
 with open('%s.rank%d.json' % (args.out, me), 'w') as fh:
     json.dump(result, fh)
