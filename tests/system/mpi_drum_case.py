@@ -8,7 +8,9 @@ holds the merged scene at the end, also the spheres' positions and velocities, O
 the ranks and the guard's checks.  Options (after OUT):
   --steps N   --integration explicit|implicit   --tolerance TOL (implicit)
   --no-boundary-motion  without the ViscBridgeBoundaryMotion decompose() adds (must be refused)
-  --n SPHERES (150; above, a drum of 16 mm)  --vtk N: a bridge_recorder (bridges, particles, boundary) every N steps, its last frame summed up
+  --n SPHERES (150; above, a drum of 16 mm)  --save FILE (rank 0, the merged scene after the run)  --load FILE: serially, the saved scene made
+  serial (viscbridge.mpi.to_serial()) and run --steps more, its liquid before and after
+  --vtk N: a bridge_recorder (bridges, particles, boundary) every N steps, its last frame summed up
   by rank 0 in the result  --liquid fixed|film  --wet-fraction F (film)  --reallocate N (mpy's REALLOCATE_FREQUENCY)  --history N: an AgglomerateHistory every N steps
   (OUT.csv, written by rank 0) and the liquid's total and CoV, measured on every rank at the same
   steps by a PyRunner (collectives while the scene is split)
@@ -35,6 +37,8 @@ ap.add_argument('--liquid', default='fixed')
 ap.add_argument('--wet-fraction', type=float, default=0.15)
 ap.add_argument('--history', type=int, default=0)
 ap.add_argument('--vtk', type=int, default=0, help='a viscbridge.vtk.bridge_recorder every N steps')
+ap.add_argument('--save', default=None, help='rank 0 saves the merged scene there after the run')
+ap.add_argument('--load', default=None, help='serially: load a saved scene, viscbridge.mpi.to_serial(), run --steps more')
 ap.add_argument('--reallocate', type=int, default=0, help="mpy's REALLOCATE_FREQUENCY")
 args = ap.parse_args(sys.argv[1:])
 
@@ -43,6 +47,19 @@ if distributed:
     from yade import mpy as mp
     mp.VERBOSE_OUTPUT = False
     mp.REALLOCATE_FREQUENCY = args.reallocate
+
+if args.load:
+    import viscbridge.liquid as liquid
+    O.load(args.load)
+    O.engines = [e for e in O.engines if not isinstance(e, yw.PyRunner)]  # the saving script's measures and recorders
+    viscbridge.mpi.to_serial()
+    liquids = [liquid.total()]
+    O.run(args.steps, True)
+    liquids.append(liquid.total())
+    engine = next(e for e in O.engines if isinstance(e, yw.ViscBridgeLiquid))
+    with open('%s.rank0.json' % args.out, 'w') as fh:
+        json.dump(dict(error=None, iter=O.iter, liquid=liquids, formed=engine.formed, ruptured=engine.ruptured), fh)
+    sys.exit(0)
 
 r = 1e-3
 film = {'wetFraction': args.wet_fraction} if args.liquid == 'film' else {}
@@ -126,6 +143,8 @@ def last_vtk_frame():
     return frame
 
 
+if args.save and me == 0 and result['error'] is None:
+    O.save(args.save)
 if args.vtk and me == 0 and result['error'] is None:
     result['vtk'] = last_vtk_frame()
 with open('%s.rank%d.json' % (args.out, me), 'w') as fh:

@@ -7,6 +7,8 @@ which the bed lands and rolls with ~315 bridges."""
 import math
 import os
 
+import pytest
+
 from test_mpi import run_case, run_case_stopping_at_the_first_step
 
 CASE = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'mpi_drum_case.py')
@@ -52,7 +54,15 @@ FILM = ('--n', '300', '--liquid', 'film', '--wet-fraction', '0.5', '--history', 
         '--tolerance', '1e-12')
 
 
-def test_a_film_drum_on_three_ranks_conserves_its_liquid_and_forms_the_serial_agglomerates():
+@pytest.fixture(scope='module')
+def film(tmp_path_factory):
+    """The film drum serially and on 3 ranks (whose merged scene rank 0 saves): (serial result, every
+    rank's result, the saved scene)."""
+    saved = str(tmp_path_factory.mktemp('film') / 'merged.yade.gz')
+    return run_case(1, *FILM, case=CASE)[0], run_case(3, *FILM, '--save', saved, case=CASE), saved
+
+
+def test_a_film_drum_on_three_ranks_conserves_its_liquid_and_forms_the_serial_agglomerates(film):
     """Film liquid across ranks (physics.md L8): 300 spheres in a drum of 16 mm, half of them wet,
     3 000 steps (the bed lands and rolls; 276 bridges, 9 of them between the two workers' spheres at
     the end, computed on both).  The liquid over all ranks (a collective measure while the scene is
@@ -61,8 +71,7 @@ def test_a_film_drum_on_three_ranks_conserves_its_liquid_and_forms_the_serial_ag
     volumes are the serial run's; the agglomerate history is the serial one row for row (the spheres
     stay within 3e-10 m of the serial run's here — later the mostly dry rolling bed amplifies the
     solver's differences, see docs/cluster.md)."""
-    serial = run_case(1, *FILM, case=CASE)[0]
-    split = run_case(3, *FILM, case=CASE)
+    serial, split, _ = film
     assert serial['error'] is None and all(r['error'] is None for r in split), [r['error'] for r in split]
     total = serial['initialLiquid']
     assert total > 0 and abs(serial['finalLiquid'] - total) <= 1e-12 * total
@@ -90,14 +99,13 @@ def by_id(frame, kind, key, names):
     return dict(zip(arrays[key], zip(*(arrays[n] for n in names))))
 
 
-def test_the_film_drums_vtk_series_on_three_ranks_holds_the_serial_frames_in_pieces():
+def test_the_film_drums_vtk_series_on_three_ranks_holds_the_serial_frames_in_pieces(film):
     """The film drum with a viscbridge.vtk.bridge_recorder every 1 000 steps: on 3 ranks each frame
     of the split scene is one piece per rank (listed as the frame's parts in the .pvd, which rank 0
     writes), and the pieces of the last frame hold every sphere, interaction and facet once, with
     the serial frame's values (films, agglomerate labels and bridge volumes equal; positions
     within 1e-8 m; the liquid per sphere, whose bridge shares a rank sums in its own order, to 1e-14)."""
-    serial = run_case(1, *FILM, case=CASE)[0]['vtk']
-    split = run_case(3, *FILM, case=CASE)[0]['vtk']
+    serial, split = film[0]['vtk'], film[1][0]['vtk']
     for kind in ('bridges', 'particles', 'boundary'):
         assert serial[kind]['pieces'] == ['0'] and split[kind]['pieces'] == ['0', '1', '2'], kind
         assert serial[kind]['frames'] == split[kind]['frames'] == 4, kind  # steps 0 (whole, rank 0), 1000, 2000, 3000
@@ -116,3 +124,31 @@ def test_the_film_drums_vtk_series_on_three_ranks_holds_the_serial_frames_in_pie
     assert max(math.dist(at[0][i], at[1][i]) for i in at[0]) < 1e-8
     assert sorted(serial['boundary']['arrays']['id']) == sorted(split['boundary']['arrays']['id'])
     assert serial['boundary']['arrays']['Points'] == split['boundary']['arrays']['Points']  # the master's facets
+
+
+def test_the_film_drum_merged_saved_and_run_on_serially_keeps_its_liquid(film):
+    """The 3-rank film drum's merged scene, saved by rank 0, loaded in one process, made serial
+    (viscbridge.mpi.to_serial()) and run 3 000 steps more: its liquid is the total put in to 1e-12
+    before and after, while bridges go on forming from the films."""
+    serial, split, saved = film
+    assert split[0]['error'] is None and os.path.exists(saved)
+    resumed = run_case(1, '--load', saved, '--steps', '3000', case=CASE)[0]
+    total = serial['initialLiquid']
+    assert resumed['iter'] == 6000 and resumed['formed'] > 10, resumed
+    assert all(abs(v - total) <= 1e-12 * total for v in resumed['liquid']), (resumed['liquid'], total)
+
+
+def test_a_film_drum_on_three_workers_is_the_serial_one_as_well(film):
+    """The same film drum on 4 ranks (3 workers; this 2-core machine oversubscribed): the middle
+    worker exchanges films with two neighbours.  Liquid to 1e-12 at every row on every rank, no
+    stale mirror film, films, bridges and the agglomerate history the serial run's."""
+    serial = film[0]
+    split = run_case(4, *FILM, case=CASE)
+    assert all(r['error'] is None for r in split), [r['error'] for r in split]
+    total = serial['initialLiquid']
+    rows = [row for r in split for row in r['liquid']]
+    assert all(abs(row[1] - total) <= 1e-12 * total and row[6] == 0 for row in rows), rows
+    assert all(r['liquid'][-1][5] > 0 for r in split[1:])  # every worker holds bridges to a neighbour's spheres
+    merged = split[0]
+    assert merged['films'] == serial['films'] and merged['bridgeVolumes'] == serial['bridgeVolumes']
+    assert merged['history'] == serial['history']

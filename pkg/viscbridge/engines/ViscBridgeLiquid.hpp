@@ -64,11 +64,13 @@ public:
 		"the excess stays in the films (L1, L2, after YADE's LiqControl); no bridge forms from less than minBridgeVolume (L5) — and its viscous, capillary and rupture constants follow "
 		"its volume (L4); a ruptured bridge gives its volume back to the films (L3). Walls and facets carry no film. "
 		"In the step a bridge forms, its forces use the largest volume it may take (its volume is known once the step's "
-		"formations are counted). The liquid of a bridge whose bodies are both erased is counted in lostVolume.",
+		"formations are counted). The liquid of a bridge whose bodies are both erased is counted in lostVolume. "
+		"Under yade.mpy every rank settles the whole scene's formations of a step from their owners' films, changes only its own "
+		"particles' films and then refreshes its copies of its neighbours' films (physics.md L8, docs/cluster.md).",
 		((string,ruptureSplit,viscbridge::ruptureSplitNames[0],Attr::triggerPostLoad,"How a ruptured bridge's volume returns to the films (L3): 'half' (half to each particle; all of it to the particle of a wall bridge) or 'radius' (in proportion to the particles' surfaces, $r_i^2/(r_1^2+r_2^2)$)."))
 		((Real,minBridgeVolume,0,Attr::triggerPostLoad,"The least liquid a bridge forms from [m³] (L5): where the two films hold less (or, among bridges formed in the same step, offer less), the contact stays dry and the films keep their liquid. 0: any liquid forms a bridge. With a threshold the binder does not spread over the whole bed in ever thinner bridges (MercuryDPM's liquidBridgeVolumeMin, YADE's LiqControl Vmin; calibrated on drums by Pourandi et al. 2026). Allowed: a finite number ≥ 0 (above the Ip2's bridge volume no bridge forms)."))
-		((long,formed,0,Attr::readonly,"Bridges that took liquid from the films since the engine was created."))
-		((long,ruptured,0,Attr::readonly,"Ruptured bridges whose liquid returned to the films."))
+		((long,formed,0,Attr::readonly,"Bridges that took liquid from the films since the engine was created (under yade.mpy: those this rank accounts for; the sum over the ranks is the scene's)."))
+		((long,ruptured,0,Attr::readonly,"Ruptured bridges whose liquid returned to the films (under yade.mpy: as formed)."))
 		((Real,lostVolume,0,Attr::readonly,"Liquid of ruptured bridges whose particles were both erased [m³] (gone from the scene)."))
 		,
 		/* ctor */ rollback.keep(std::tie(ruptureSplit, minBridgeVolume));
