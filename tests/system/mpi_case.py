@@ -11,6 +11,7 @@ ranks, the initial kinetic energy and the bridges.  Options (after OUT):
   --mismatch      run 5 steps, then give rank 1 twice the dt and run on (must be refused)
   --no-decompose  leave every particle to the master (must be refused)
   --clump         add a clump of two wet spheres to worker 1 (must be refused: mpy has no clumps)
+  --film  liquidModel='film' (every sphere's film 1 % of its volume)
   --moving-wall engine|velocity   a wall moved by a TranslationEngine, or with its velocity set (the
                   ViscBridgeBoundaryMotion decompose() adds moves it on the workers)
   --no-boundary-motion  without that engine (a moving wall must then be refused: mpy moves the
@@ -45,6 +46,7 @@ ap.add_argument('--tolerance', type=float, default=None)
 ap.add_argument('--dt', type=float, default=None)
 ap.add_argument('--rayleigh-fraction', type=float, default=None)
 ap.add_argument('--accuracy', type=float, default=None)
+ap.add_argument('--film', action='store_true', help="liquidModel='film', every sphere's film 1 % of its volume")
 ap.add_argument('--no-guard', action='store_true')
 ap.add_argument('--mismatch', action='store_true')
 ap.add_argument('--no-decompose', action='store_true')
@@ -68,8 +70,9 @@ def build():
     """40 spheres in a column 5 diameters wide, thrown at 0.3 m/s (--speed) into each other and the walls,
     bridges forming within 0.5 r: many bridges (across the subdomains too) and a large part of the
     energy dissipated within 300 steps."""
+    film = dict(liquidModel='film', filmRel=0.01) if args.film else {}
     scenes.settling(n=40, viscosity=args.viscosity, seed=3, initialSpeed=args.speed, cloudFraction=0.25, formationDistance=2.5e-4, width=5e-3,
-                    integration=args.integration, dt=args.dt, guard=not args.no_guard)
+                    integration=args.integration, dt=args.dt, guard=not args.no_guard, **film)
     if args.tolerance:
         for e in O.engines:
             if isinstance(e, yw.ViscBridgeImplicitSolver):
@@ -120,6 +123,9 @@ builtins.DTS = DTS  # PyRunner commands run in __main__ of yade, not here
 
 me = viscbridge.mpi.rank()
 result = dict(rank=me, ranks=viscbridge.mpi.ranks(), error=None)
+if args.film:
+    import viscbridge.liquid as liquid
+    result['initialLiquid'] = liquid.total()  # every rank holds the whole scene until the split
 
 
 def agglomerate_record(a):
@@ -181,10 +187,16 @@ if args.history:
     if me == 0:
         with open(args.out + '.agglomerates.csv') as fh:
             result['historyCsvLines'] = sum(1 for line in fh if line.strip())
+liquids = [e for e in O.engines if isinstance(e, yw.ViscBridgeLiquid)]
+if liquids and result['error'] is None:  # each rank counts the bridges it accounts for
+    result['filmEvents'] = [sum(c) for c in zip(*viscbridge.mpi.allgather((liquids[0].formed, liquids[0].ruptured)))]
 if result['error'] is None:
     result['energy'] = viscbridge.mpi.energy()
     if me == 0:
         spheres = [b for b in O.bodies if isinstance(b.shape, yw.Sphere)]
+        if liquids:
+            result['films'] = {b.id: b.state.film for b in spheres}
+            result['liquid'] = [liquid.in_films(), liquid.in_bridges()]
         result['positions'] = {b.id: list(b.state.pos) for b in spheres}
         bridges = [i for i in O.interactions if i.isReal and i.phys.bridge]
         result['bridges'] = len(bridges)

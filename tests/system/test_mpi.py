@@ -271,6 +271,26 @@ def test_accuracy_and_the_automatic_scheme_are_refused_on_every_rank(options, re
             assert r['iter'] <= 1
 
 
+def test_film_liquid_through_formation_and_rupture_across_ranks_is_the_serial_one():
+    """The thrown spheres with films (1 % of each sphere's volume; explicit, 300 steps): bridges form
+    from the films and rupture as the spheres bounce apart, some of them between the two workers'
+    spheres.  On 3 ranks the scene keeps its liquid to 1e-12 and ends with the serial run's films
+    (to 1e-12 of a film; the explicit runs differ by rounding), and the bridges formed and ruptured,
+    summed over the ranks, are the serial counts."""
+    serial = run_case(1, '--film')[0]
+    split = run_case(3, '--film')
+    assert serial['error'] is None and all(r['error'] is None for r in split), [r['error'] for r in split]
+    formed, ruptured = serial['filmEvents']
+    assert formed > 20 and ruptured > 5, serial['filmEvents']
+    assert all(r['filmEvents'] == serial['filmEvents'] for r in split), [r['filmEvents'] for r in split]
+    total = serial['initialLiquid']
+    for result in (serial, split[0]):
+        assert abs(sum(result['liquid']) - total) <= 1e-12 * total, (result['liquid'], total)
+    films = serial['films']
+    assert max(abs(films[k] - split[0]['films'][k]) for k in films) <= 1e-12 * max(films.values())
+    assert split[0]['crossBridges'] > 0
+
+
 def test_the_scenes_measures_of_a_split_scene_are_the_whole_scenes():
     """While the scene is split (after mp.mpirun without merging), a rank holds only its share of the
     bodies and interactions.  viscbridge.agglomerates() gathers the whole scene's on every rank: the

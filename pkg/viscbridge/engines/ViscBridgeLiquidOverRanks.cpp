@@ -10,6 +10,7 @@
 #include "viscbridge/yade/ViscBridgeState.hpp"
 #include <core/Scene.hpp>
 #include <pkg/common/Sphere.hpp>
+#include <boost/functional/hash.hpp>
 #include <algorithm>
 #include <sstream>
 
@@ -59,7 +60,7 @@ ViscBridgeLiquid::formationsOverRanks(const std::vector<BridgeEvent>& events, st
 	mine.push_back(double(std::count_if(events.begin(), events.end(), [](const BridgeEvent& e) {
 		return e.kind == BridgeEvent::Kind::ruptured && e.volume > 0;
 	})));
-	const size_t owned = distributed::ownedBodiesSignature(scene); // changed: mpy moved bodies between ranks
+	const size_t owned = ownedBodies(); // changed: mpy moved bodies between ranks
 	mine.push_back(double(ownedSignature != 0 && owned != ownedSignature));
 	ownedSignature = owned;
 
@@ -72,8 +73,9 @@ ViscBridgeLiquid::formationsOverRanks(const std::vector<BridgeEvent>& events, st
 		const auto nFilms = static_cast<size_t>(all[at++]);
 		for (size_t k = 0; k < nFilms; ++k, at += 2)
 			films[static_cast<Body::id_t>(all[at])] = all[at + 1];
-		anyRupture = anyRupture || all[at++] > 0;
-		moved      = moved || all[at++] > 0;
+		const bool ruptures = all[at++] > 0, changed = all[at++] > 0; // both read, whatever came before
+		anyRupture          = anyRupture || ruptures;
+		moved               = moved || changed;
 	}
 	// a bridge between two ranks came from both, equal: once, in the serial events' order (by ids)
 	std::sort(formations.begin(), formations.end(), [](const Formation& a, const Formation& b) {
@@ -83,6 +85,17 @@ ViscBridgeLiquid::formationsOverRanks(const std::vector<BridgeEvent>& events, st
 	        std::unique(formations.begin(), formations.end(), [](const Formation& a, const Formation& b) { return a.id1 == b.id1 && a.id2 == b.id2; }),
 	        formations.end());
 	return formations;
+}
+
+size_t ViscBridgeLiquid::ownedBodies() const
+{
+	// the ids of the bodies this rank owns, in id order (mpy's own list, Subdomain::ids, also
+	// changes when no body moved)
+	const auto own  = distributed::ownership(scene);
+	size_t     hash = 1;
+	for (const auto& b : *scene->bodies)
+		if (b && own.body(*b)) boost::hash_combine(hash, b->id);
+	return hash;
 }
 
 void ViscBridgeLiquid::refreshMirrorFilms()
