@@ -2,17 +2,18 @@
 # master plus one or two workers), hours per revolution, mpy's own overhead per step, and a model of
 # strong and weak scaling fitted to them (docs/cluster.md, "The drum over ranks").
 #
-#   ./yadew run bench/mpi_drum.py [SPHERES ...]      (default 1000 3000)
-#   ./yadew run bench/mpi_drum.py --model            (the model of the last measurement)
+#   ./yadew run bench/mpi_drum.py [[MODEL:]SPHERES ...]   (default fixed:1000 fixed:3000; MODEL fixed or film)
+#   ./yadew run bench/mpi_drum.py --model                 (the model of the last measurement)
 #
-# The drum of bench/drum_cost.py with every contact wet (liquidModel='fixed': film liquid does not
-# run under mpy): spheres of 1 mm, fill 0.35, Fr = 0.05, μ = 1 Pa·s, implicit, the full engine
-# list.  Its bed lands once serially (drum_cost.land, cached in bench/.cache/drum/); each run loads
+# The drum of bench/drum_cost.py with every contact wet (liquidModel='fixed') or with film liquid
+# (its default: 15 % of the spheres wet): spheres of 1 mm, fill 0.35, Fr = 0.05, μ = 1 Pa·s,
+# implicit, the full engine list.  Its bed lands once serially (drum_cost.land, cached in bench/.cache/drum/); each run loads
 # it, splits it into slabs along x (viscbridge.mpi.decompose()), takes WARMUP steps (mpy's split and
 # the solver's first factorisation) and times STEPS.  One thread per rank.  This VM has 2 cores:
 # 3 ranks oversubscribe them, and mpy's master (no spheres) polls while it waits, so the 3-rank
 # times are pessimistic.  The fastest of ROUNDS interleaved rounds, the slowest kept beside it.
-# Writes docs/perf/mpi_drum.csv.
+# Writes docs/perf/mpi_drum.csv (rows of other configurations measured before are kept); a
+# scaling model is fitted to the rows of each liquid model measured at two sizes or more.
 import csv
 import json
 import os
@@ -30,13 +31,13 @@ OUT = os.path.join(common.RESULTS, 'mpi_drum.csv')
 WARMUP, STEPS, ROUNDS = 10, 20, 2
 
 
-def worker(n, out):
+def worker(model, n, out):
     import math
     from yade import O
     import yade.wrapper as yw
     import viscbridge.mpi
     distributed = 'OMPI_COMM_WORLD_SIZE' in os.environ
-    O.load(drum_cost.scene_path('fixed', n))
+    O.load(drum_cost.scene_path(model, n))
     period = 2 * math.pi / abs(next(e for e in O.engines if isinstance(e, yw.RotationEngine)).angularVelocity)
     viscbridge.mpi.decompose(axis=0)
     if distributed:
@@ -52,24 +53,38 @@ def worker(n, out):
     seconds = (time.perf_counter() - t0) / STEPS
     iterations = viscbridge.mpi.allgather(solver.totalIterations - iterations0)
     if viscbridge.mpi.rank() == 0:
-        json.dump(dict(spheres=n, ranks=viscbridge.mpi.ranks(), steps=STEPS, seconds_per_step=seconds, dt=O.dt,
+        json.dump(dict(model=model, spheres=n, ranks=viscbridge.mpi.ranks(), steps=STEPS, seconds_per_step=seconds, dt=O.dt,
                        hours_per_revolution=seconds * period / O.dt / 3600,
                        cg_iterations_per_step=max(iterations) / STEPS), open(out, 'w'))
 
 
-def land(n):
-    if not os.path.exists(drum_cost.scene_path('fixed', n)):
+def land(model, n):
+    if not os.path.exists(drum_cost.scene_path(model, n)):
         with tempfile.TemporaryDirectory() as tmp:
-            subprocess.run(['yade', '-n', '-j1', '-x', os.path.join(HERE, 'drum_cost.py'), '--land', 'fixed', str(n),
+            subprocess.run(['yade', '-n', '-j1', '-x', os.path.join(HERE, 'drum_cost.py'), '--land', model, str(n),
                             os.path.join(tmp, 'landed.json')], check=True, env=dict(os.environ, OMP_NUM_THREADS='1'),
                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
 
-def measure(n, ranks):
-    return common.run_on_ranks(os.path.join(HERE, 'mpi_drum.py'), ['--worker', n], ranks)
+def measure(model, n, ranks):
+    return common.run_on_ranks(os.path.join(HERE, 'mpi_drum.py'), ['--worker', model, n], ranks)
 
 
-def model(rows):
+def configuration(arg):
+    """'film:10000' -> ('film', 10000); a bare size is the fixed liquid's."""
+    model, _, n = arg.rpartition(':')
+    return model or 'fixed', int(n)
+
+
+def earlier_rows():
+    """The rows of the CSV as it is (an older one without the model column: 'fixed')."""
+    if not os.path.exists(OUT):
+        return []
+    with open(OUT) as fh:
+        return [dict({k: v for k, v in r.items() if v != ''}, model=r.get('model') or 'fixed') for r in csv.DictReader(fh)]
+
+
+def model(rows, liquid='fixed'):
     """A worker's step t_w(n) = c·n^p for n spheres (fitted to the one-worker runs of the two largest
     sizes: the factor's fill makes it grow faster than n), times k, what splitting costs on top (the
     two-worker run of the largest size against t_w of half its spheres: the block-Jacobi
@@ -77,6 +92,7 @@ def model(rows):
     Strong and weak scaling then follow t(N, W) = k·c·(N/W)^p.  Fitted to the fastest rounds; an
     extrapolation, not a measurement beyond them."""
     import math
+    rows = [r for r in rows if r.get('model', 'fixed') == liquid]
     t = {(r['spheres'], r['ranks']): r['seconds_per_step'] for r in rows}
     small, large = sorted({r['spheres'] for r in rows})[-2:]
     p = math.log(t[large, 2] / t[small, 2]) / math.log(large / small)
@@ -90,8 +106,14 @@ def predict(c, p, k, n, workers):
 
 
 def report_model(rows):
-    c, p, k = model(rows)
-    print('model: a worker\'s step %.3g s * n^%.2f; split into several workers, k = %.2f times that' % (c, p, k))
+    for liquid in sorted({r.get('model', 'fixed') for r in rows}):
+        if len({r['spheres'] for r in rows if r.get('model', 'fixed') == liquid}) >= 2:
+            report_model_of(rows, liquid)
+
+
+def report_model_of(rows, liquid):
+    c, p, k = model(rows, liquid)
+    print('model (%s liquid): a worker\'s step %.3g s * n^%.2f; split into several workers, k = %.2f times that' % (liquid, c, p, k))
     for n, workers in ((10 ** 4, 1), (10 ** 4, 3), (10 ** 5, 15), (10 ** 6, 63)):
         print('  %d spheres on %d ranks: %.3g s per step' % (n, workers + 1, predict(c, p, k, n, workers)))
     for per_worker in (2500, 10000):
@@ -99,29 +121,30 @@ def report_model(rows):
 
 
 if len(sys.argv) > 1 and sys.argv[1] == '--worker':
-    worker(int(sys.argv[2]), sys.argv[3])
+    worker(sys.argv[2], int(sys.argv[3]), sys.argv[4])
 elif len(sys.argv) > 1 and sys.argv[1] == '--model':  # the model of the last measurement (the CSV)
     with open(OUT) as fh:
-        report_model([{k: float(v) if v else v for k, v in r.items()} for r in csv.DictReader(fh)])
+        report_model([{k: float(v) if v and k != 'model' else v for k, v in r.items()} for r in csv.DictReader(fh)])
 else:
-    sizes = [int(s) for s in sys.argv[1:]] or [1000, 3000]
-    for n in sizes:
-        land(n)
+    configs = [configuration(a) for a in sys.argv[1:]] or [('fixed', 1000), ('fixed', 3000)]
+    for c in configs:
+        land(*c)
     runs = {}
     for _ in range(ROUNDS):
-        for n in sizes:
+        for c in configs:
             for ranks in (1, 2, 3):
-                row = measure(n, ranks)
-                runs.setdefault((n, ranks), []).append(row)
+                row = measure(*c, ranks)
+                runs.setdefault((c, ranks), []).append(row)
                 print(row, flush=True)
     rows = []
-    for n in sizes:
-        serial = min(r['seconds_per_step'] for r in runs[n, 1])
+    for c in configs:
+        serial = min(r['seconds_per_step'] for r in runs[c, 1])
         for ranks in (1, 2, 3):
-            done = sorted(runs[n, ranks], key=lambda r: r['seconds_per_step'])
+            done = sorted(runs[c, ranks], key=lambda r: r['seconds_per_step'])
             rows.append(dict(done[0], rounds=len(done), slowest_seconds_per_step=done[-1]['seconds_per_step'],
                              speedup=serial / done[0]['seconds_per_step'],
                              mpy_overhead_per_step=done[0]['seconds_per_step'] - serial if ranks == 2 else ''))
-    print('wrote', common.write_rows(OUT, rows))
-    if len(sizes) >= 2:
-        report_model(rows)
+    measured = {(r['model'], int(r['spheres']), int(r['ranks'])) for r in rows}
+    kept = [r for r in earlier_rows() if (r['model'], int(float(r['spheres'])), int(float(r['ranks']))) not in measured]
+    print('wrote', common.write_rows(OUT, kept + rows))
+    report_model([{k: float(v) if k != 'model' else v for k, v in r.items()} for r in kept] + rows)
