@@ -12,6 +12,7 @@ ranks, the initial kinetic energy and the bridges.  Options (after OUT):
   --no-decompose  leave every particle to the master (must be refused)
   --clump         add a clump of two wet spheres to worker 1 (must be refused: mpy has no clumps)
   --film  liquidModel='film' (every sphere's film 1 % of its volume)
+  --fixed-sphere  a fixed wettable sphere, left to the master (with --film: must be refused)
   --moving-wall engine|velocity   a wall moved by a TranslationEngine, or with its velocity set (the
                   ViscBridgeBoundaryMotion decompose() adds moves it on the workers)
   --no-boundary-motion  without that engine (a moving wall must then be refused: mpy moves the
@@ -47,6 +48,7 @@ ap.add_argument('--dt', type=float, default=None)
 ap.add_argument('--rayleigh-fraction', type=float, default=None)
 ap.add_argument('--accuracy', type=float, default=None)
 ap.add_argument('--film', action='store_true', help="liquidModel='film', every sphere's film 1 % of its volume")
+ap.add_argument('--fixed-sphere', action='store_true', help='add a fixed (wettable) sphere, which decompose() leaves to the master')
 ap.add_argument('--no-guard', action='store_true')
 ap.add_argument('--mismatch', action='store_true')
 ap.add_argument('--no-decompose', action='store_true')
@@ -83,6 +85,9 @@ def build():
                 e.rayleighFraction = args.rayleigh_fraction
             if args.accuracy:
                 e.accuracy = args.accuracy
+    if args.fixed_sphere:
+        top = max(b.state.pos[2] for b in O.bodies if isinstance(b.shape, yw.Sphere)) + 1e-3
+        O.bodies.append(utils.sphere((1e-3, 1e-3, top), 2e-4, fixed=True, material=O.bodies[-1].material))
     if args.events:
         loop = next(i for i, e in enumerate(O.engines) if isinstance(e, yw.InteractionLoop))
         O.engines = O.engines[:loop + 1] + [yw.ViscBridgeEventCounter(label='eventCounter')] + O.engines[loop + 1:]

@@ -291,6 +291,18 @@ def test_film_liquid_through_formation_and_rupture_across_ranks_is_the_serial_on
     assert split[0]['crossBridges'] > 0
 
 
+def test_a_wettable_sphere_left_to_the_master_is_refused_with_film_liquid():
+    """The master computes no interaction, so the film of a sphere it keeps (a fixed one) could not
+    take part in the workers' bridges: the first step stops on every rank, naming the body and how
+    to make it dry — 3 times in a row, none hanging."""
+    for attempt in range(3):
+        _cache.clear()
+        results = run_case_stopping_at_the_first_step(3, '--film', '--fixed-sphere', '--steps', '20')
+        for r in results:
+            assert r['error'] and 'the master keeps' in r['error'] and 'is wettable' in r['error'], (attempt, r)
+            assert 'viscbridge.liquid.make_dry(ids=[' in r['error'] and r['iter'] <= 1
+
+
 def test_the_scenes_measures_of_a_split_scene_are_the_whole_scenes():
     """While the scene is split (after mp.mpirun without merging), a rank holds only its share of the
     bodies and interactions.  viscbridge.agglomerates() gathers the whole scene's on every rank: the
