@@ -159,9 +159,11 @@ namespace distributed {
 	{
 #ifdef YADE_MPI
 		if (!active(scene)) return 0;
-		const auto& ids = subdomainOf(scene)->ids;
-		size_t      h   = boost::hash_range(ids.begin(), ids.end());
-		boost::hash_combine(h, ids.size());
+		// from the bodies' own subdomain: mpy's list (Subdomain::ids) is not updated by migrateBodies
+		const int me = rank(scene);
+		size_t    h  = 1;
+		for (const auto& b : *scene->bodies)
+			if (b && b->subdomain == me) boost::hash_combine(h, b->id);
 		return h;
 #else
 		return 0;

@@ -45,8 +45,7 @@ class ViscBridgeLiquid : public GlobalEngine, public FilmSource {
 	// formations of the step from their owners' films, and changes the films of its own bodies.
 	void actOverRanks(const std::vector<BridgeEvent>& events);
 	std::vector<Formation> formationsOverRanks(const std::vector<BridgeEvent>& events, std::map<Body::id_t, Real>& films, bool& anyRupture, bool& moved);
-	void   refreshMirrorFilms(); // the mirrors' films from their owners, for the law's next step
-	size_t ownedBodies() const;  // a signature of the set of bodies this rank owns
+	void refreshMirrorFilms(); // the mirrors' films from their owners, for the law's next step
 	void refuseFilmsOfTheMaster(); // a master's body whose film would change: the workers cannot update it
 	bool   masterChecked  = false; // refuseFilmsOfTheMaster done for this split
 	size_t ownedSignature = 0;     // distributed::ownedBodiesSignature at the last step under mpy

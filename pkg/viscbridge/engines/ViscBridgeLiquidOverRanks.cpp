@@ -10,7 +10,6 @@
 #include "viscbridge/yade/ViscBridgeState.hpp"
 #include <core/Scene.hpp>
 #include <pkg/common/Sphere.hpp>
-#include <boost/functional/hash.hpp>
 #include <algorithm>
 #include <sstream>
 
@@ -60,7 +59,7 @@ ViscBridgeLiquid::formationsOverRanks(const std::vector<BridgeEvent>& events, st
 	mine.push_back(double(std::count_if(events.begin(), events.end(), [](const BridgeEvent& e) {
 		return e.kind == BridgeEvent::Kind::ruptured && e.volume > 0;
 	})));
-	const size_t owned = ownedBodies(); // changed: mpy moved bodies between ranks
+	const size_t owned = distributed::ownedBodiesSignature(scene); // changed: mpy moved bodies between ranks
 	mine.push_back(double(ownedSignature != 0 && owned != ownedSignature));
 	ownedSignature = owned;
 
@@ -85,17 +84,6 @@ ViscBridgeLiquid::formationsOverRanks(const std::vector<BridgeEvent>& events, st
 	        std::unique(formations.begin(), formations.end(), [](const Formation& a, const Formation& b) { return a.id1 == b.id1 && a.id2 == b.id2; }),
 	        formations.end());
 	return formations;
-}
-
-size_t ViscBridgeLiquid::ownedBodies() const
-{
-	// the ids of the bodies this rank owns, in id order (mpy's own list, Subdomain::ids, also
-	// changes when no body moved)
-	const auto own  = distributed::ownership(scene);
-	size_t     hash = 1;
-	for (const auto& b : *scene->bodies)
-		if (b && own.body(*b)) boost::hash_combine(hash, b->id);
-	return hash;
 }
 
 void ViscBridgeLiquid::refreshMirrorFilms()
