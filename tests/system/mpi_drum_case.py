@@ -10,6 +10,7 @@ the ranks and the guard's checks.  Options (after OUT):
   --no-boundary-motion  without the ViscBridgeBoundaryMotion decompose() adds (must be refused)
   --n SPHERES (150; above, a drum of 16 mm)  --save FILE (rank 0, the merged scene after the run)  --load FILE: serially, the saved scene made
   serial (viscbridge.mpi.to_serial()) and run --steps more, its liquid before and after
+  --migrate N: N steps split, then mpy.migrateBodies moves 3 spheres from rank 1 to rank 2, then on
   --vtk N: a bridge_recorder (bridges, particles, boundary) every N steps, its last frame summed up
   by rank 0 in the result  --liquid fixed|film  --wet-fraction F (film)  --reallocate N (mpy's REALLOCATE_FREQUENCY)  --history N: an AgglomerateHistory every N steps
   (OUT.csv, written by rank 0) and the liquid's total and CoV, measured on every rank at the same
@@ -39,6 +40,7 @@ ap.add_argument('--history', type=int, default=0)
 ap.add_argument('--vtk', type=int, default=0, help='a viscbridge.vtk.bridge_recorder every N steps')
 ap.add_argument('--save', default=None, help='rank 0 saves the merged scene there after the run')
 ap.add_argument('--load', default=None, help='serially: load a saved scene, viscbridge.mpi.to_serial(), run --steps more')
+ap.add_argument('--migrate', type=int, default=0, help='N steps split, 3 spheres moved from rank 1 to 2 (mpy.migrateBodies), then on')
 ap.add_argument('--reallocate', type=int, default=0, help="mpy's REALLOCATE_FREQUENCY")
 args = ap.parse_args(sys.argv[1:])
 
@@ -101,7 +103,14 @@ if args.history:
     O.engines = O.engines + [history.recorder(iterPeriod=args.history),
                              yw.PyRunner(command='measure_liquid()', iterPeriod=args.history)]
 try:
-    if distributed:
+    if distributed and args.migrate:
+        mp.mpirun(args.migrate, mp.numThreads, withMerge=False)
+        moved = sorted(b.id for b in O.bodies if b is not None and b.subdomain == 1)[:3] if me == 1 else []
+        mp.migrateBodies(moved, 1, 2)
+        if me == 1:
+            O.subD.completeSendBodies()
+        mp.mpirun(args.steps - args.migrate, mp.numThreads, withMerge=True)
+    elif distributed:
         mp.mpirun(args.steps, mp.numThreads, withMerge=True)
     else:
         O.run(args.steps, True)

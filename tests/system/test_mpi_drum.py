@@ -9,7 +9,7 @@ import os
 
 import pytest
 
-from test_mpi import run_case, run_case_stopping_at_the_first_step
+from test_mpi import _cache, run_case, run_case_stopping_at_the_first_step
 
 CASE = os.path.join(os.path.dirname(os.path.abspath(__file__)), 'mpi_drum_case.py')
 RUN = ('--steps', '6000', '--tolerance', '1e-12')
@@ -152,3 +152,15 @@ def test_a_film_drum_on_three_workers_is_the_serial_one_as_well(film):
     merged = split[0]
     assert merged['films'] == serial['films'] and merged['bridgeVolumes'] == serial['bridgeVolumes']
     assert merged['history'] == serial['history']
+
+
+def test_bodies_moved_between_ranks_are_refused_with_film_liquid():
+    """mpy.migrateBodies (what mpy's reallocation does) between two runs of a film drum: a moved body's
+    bridges would be created anew on its new rank and take their liquid again, so the first step
+    after it stops on every rank, naming REALLOCATE_FREQUENCY — twice in a row, none hanging."""
+    for attempt in range(2):
+        _cache.clear()
+        results = run_case(3, '--liquid', 'film', '--wet-fraction', '0.5', '--steps', '60', '--migrate', '50', case=CASE)
+        for r in results:
+            assert r['error'] and 'yade.mpy moved bodies between ranks' in r['error'], (attempt, r)
+            assert 'mp.REALLOCATE_FREQUENCY = 0' in r['error'] and r['iter'] == 50
