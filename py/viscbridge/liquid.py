@@ -102,14 +102,6 @@ def film(id):
     return getattr(O.bodies[id].state, 'film', 0.0)
 
 
-def _rank_if_split():
-    """This rank while yade.mpy has the scene split (each rank then accounts for its own bodies, and a
-    bridge between two ranks' bodies on the higher rank, so that sums over the ranks count each
-    once), None otherwise."""
-    from . import mpi
-    return mpi.rank() if mpi.is_split() else None
-
-
 def _over_ranks(mine, me):
     """The sum of `mine` over the ranks (a collective while split), `mine` otherwise."""
     from . import mpi
@@ -120,9 +112,9 @@ def in_films():
     """The liquid in all films [m³].  While yade.mpy has the scene split, a collective (call it on every
     rank): the whole scene's, on every rank."""
     from yade import O
-    me = _rank_if_split()
-    return _over_ranks(math.fsum(getattr(b.state, 'film', 0.0) for b in O.bodies
-                                 if b is not None and (me is None or b.subdomain == me)), me)
+    from . import mpi
+    me = mpi.split_rank()
+    return _over_ranks(math.fsum(getattr(b.state, 'film', 0.0) for b in O.bodies if b is not None and mpi.accounts_for_body(b, me)), me)
 
 
 def _bridges():
@@ -143,10 +135,9 @@ def in_bridge(phys):
 def in_bridges():
     """The liquid in all existing bridges [m³] (a collective while yade.mpy has the scene split, as
     :func:`in_films`)."""
-    from yade import O
-    me = _rank_if_split()
-    counted = (lambda I: True) if me is None else (lambda I: max(O.bodies[I.id1].subdomain, O.bodies[I.id2].subdomain) == me)
-    return _over_ranks(math.fsum(in_bridge(I.phys) for I in _bridges() if counted(I)), me)
+    from . import mpi
+    me = mpi.split_rank()
+    return _over_ranks(math.fsum(in_bridge(I.phys) for I in _bridges() if mpi.accounts_for_pair(I.id1, I.id2, me)), me)
 
 
 def total():
@@ -176,9 +167,10 @@ def distribution():
     collective (call it on every rank): every rank gets the whole scene's, by sphere id as serially."""
     from yade import O
     import yade.wrapper as yw
-    me = _rank_if_split()
+    from . import mpi
+    me = mpi.split_rank()
     sphere = lambda i: O.bodies[i] is not None and isinstance(O.bodies[i].shape, yw.Sphere)
-    spheres = [b.id for b in O.bodies if b is not None and isinstance(b.shape, yw.Sphere) and (me is None or b.subdomain == me)]
+    spheres = [b.id for b in O.bodies if b is not None and isinstance(b.shape, yw.Sphere) and mpi.accounts_for_body(b, me)]
     where = {i: k for k, i in enumerate(spheres)}
     liquid = [getattr(O.bodies[i].state, 'film', 0.0) for i in spheres]
     for I in _bridges():
@@ -187,7 +179,6 @@ def distribution():
             if i in where:
                 liquid[where[i]] += in_bridge(I.phys) / len(ends)
     if me is not None:
-        from . import mpi
         joined = sorted(p for part in mpi.allgather(list(zip(spheres, liquid))) for p in part)
         spheres, liquid = [i for i, _ in joined], [v for _, v in joined]
     return Distribution(spheres, liquid)

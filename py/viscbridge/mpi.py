@@ -24,7 +24,7 @@ should own no moving particle (mpy never sends their states to the workers).
 import os
 import sys
 
-__all__ = ['ranks', 'rank', 'decompose', 'absolute_verlet_distance', 'energy', 'energy_total', 'to_serial', 'require_whole_scene',
+__all__ = ['ranks', 'rank', 'decompose', 'absolute_verlet_distance', 'energy', 'energy_total', 'to_serial', 'split_rank', 'accounts_for_body', 'accounts_for_pair',
            'is_split', 'allgather', 'move_boundaries_on_workers']
 
 
@@ -70,14 +70,24 @@ def allgather(value):
     return mp.comm.allgather(value) if mp else [value]
 
 
-def require_whole_scene(func):
-    """RuntimeError naming `func` while this rank holds only its share of a scene split by yade.mpy:
-    a measure over the scene's bodies or interactions would be this rank's part of it (a different
-    answer without an error).  After ``mp.mpirun(..., withMerge=True)`` rank 0 holds the whole scene."""
-    if is_split():
-        raise RuntimeError('%s: the scene is split over the %d ranks of yade.mpy, and rank %d sees only its own bodies and '
-                           'interactions; measure the merged scene instead: mp.mpirun(..., withMerge=True), then call it on rank 0'
-                           % (func, ranks(), rank()))
+def split_rank():
+    """This rank while yade.mpy has the scene split, None otherwise.  While split, a rank accounts for
+    the bodies it owns (:func:`accounts_for_body`) and for an interaction between two ranks' bodies
+    on the higher rank (:func:`accounts_for_pair`), so that sums over the ranks count each once (as
+    ViscBridge's engines do, distributed::Ownership)."""
+    return rank() if is_split() else None
+
+
+def accounts_for_body(body, me):
+    """Whether the rank `me` (:func:`split_rank`; None: not split) accounts for `body`."""
+    return me is None or body.subdomain == me
+
+
+def accounts_for_pair(id1, id2, me):
+    """Whether the rank `me` (:func:`split_rank`; None: not split) accounts for the interaction of
+    bodies `id1` and `id2` (both held here)."""
+    from yade import O
+    return me is None or max(O.bodies[id1].subdomain, O.bodies[id2].subdomain) == me
 
 
 def absolute_verlet_distance():

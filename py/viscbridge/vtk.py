@@ -91,12 +91,6 @@ def _cells(piece, tag, sizes):
     _array(cells, 'offsets', offsets, kind='Int64')
 
 
-def _split_rank():
-    """This rank while yade.mpy has the scene split, else None."""
-    from . import mpi
-    return mpi.rank() if mpi.is_split() else None
-
-
 def piece_path(path, rank):
     """The file a rank of a split scene writes for `path` (``a.vtp`` -> ``a.rank<k>.vtp``)."""
     root, ext = os.path.splitext(path)
@@ -108,11 +102,10 @@ def write_bridges(path, only_bridges=False):
     yade.mpy has the scene split, every rank writes its own piece, :func:`piece_path` (`path`, rank):
     the interactions it accounts for (one between two ranks' bodies on the higher rank, so that the
     pieces hold each once); no communication."""
-    me = _split_rank()
-    rows = _bridges(only_bridges)
+    from . import mpi
+    me = mpi.split_rank()
+    rows = [r for r in _bridges(only_bridges) if mpi.accounts_for_pair(r[3].id1, r[3].id2, me)]
     if me is not None:
-        from yade import O
-        rows = [r for r in rows if max(O.bodies[r[3].id1].subdomain, O.bodies[r[3].id2].subdomain) == me]
         path = piece_path(path, me)
     root, piece = _piece(points=2 * len(rows), lines=len(rows))
     _array(ET.SubElement(piece, 'Points'), 'Points', [c for a, b, _, _ in rows for c in (*a, *b)], 3)
@@ -150,8 +143,9 @@ def write_particles(path):
     import yade.wrapper as yw
     from . import liquid
     from .analysis.agglomerates import agglomerates
-    me = _split_rank()
-    spheres = [b for b in O.bodies if b is not None and isinstance(b.shape, yw.Sphere) and (me is None or b.subdomain == me)]
+    from . import mpi
+    me = mpi.split_rank()
+    spheres = [b for b in O.bodies if b is not None and isinstance(b.shape, yw.Sphere) and mpi.accounts_for_body(b, me)]
     spread = liquid.distribution()
     per_sphere = dict(zip(spread.ids.tolist(), spread.liquid.tolist()))
     groups = agglomerates()
@@ -246,12 +240,12 @@ def write_boundary(path):
     walls and facets; the span of every rank's) to :func:`piece_path` (`path`, rank)."""
     from yade import O
     import yade.wrapper as yw
-    me = _split_rank()
-    bodies = [b for b in O.bodies if b is not None and (me is None or b.subdomain == me)]
+    from . import mpi
+    me = mpi.split_rank()
+    bodies = [b for b in O.bodies if b is not None and mpi.accounts_for_body(b, me)]
     walls = [b for b in bodies if isinstance(b.shape, yw.Wall)]
     extent = _extent([b for b in bodies if not isinstance(b.shape, yw.Wall)], walls)
     if me is not None:  # a collective: the extent of every rank's own bodies, this rank's piece
-        from . import mpi
         everyone = mpi.allgather(extent)
         extent = [_joined([part[k] for part in everyone]) for k in range(3)]
         path = piece_path(path, me)

@@ -124,24 +124,29 @@ def edges_of_scene(min_force=0.0, min_volume=0.0):
     `min_volume` [m³].  While yade.mpy has the scene split, those of the whole scene, gathered from
     every rank (a collective: call it on every rank)."""
     from yade import O
-    from .. import liquid
     from .. import mpi
     node = {b.id: _node(b) for b in O.bodies if b is not None}
     if mpi.is_split():
         return _edges_over_ranks(node, min_force, min_volume)
     members = sorted({m for m in node.values() if m is not None})
-    index = {m: k for k, m in enumerate(members)}
-    # a member's liquid: its spheres' (film + share of each bridge, viscbridge.liquid's one rule)
     with_liquid = any(hasattr(O.bodies[i].state, 'film') for i, m in node.items() if m is not None)
-    per_member = numpy.zeros(len(members))
-    if with_liquid:
-        spread = liquid.distribution()
-        for i, volume in zip(spread.ids.tolist(), spread.liquid.tolist()):
-            if node.get(i) is not None:
-                per_member[index[node[i]]] += volume
     edges = _bridges(O.interactions, node, min_force, min_volume)
     masses = [O.bodies[m].state.mass for m in members]
-    return members, edges, masses, per_member if with_liquid else None
+    return members, edges, masses, _liquid_of(members, node.get) if with_liquid else None
+
+
+def _liquid_of(members, member_of):
+    """Each member's liquid: its spheres' (film + share of each bridge, viscbridge.liquid's one rule;
+    a collective while yade.mpy has the scene split), a sphere's member given by `member_of(id)`
+    (None: not a member)."""
+    from .. import liquid
+    index = {m: k for k, m in enumerate(members)}
+    per_member = numpy.zeros(len(members))
+    spread = liquid.distribution()
+    for i, volume in zip(spread.ids.tolist(), spread.liquid.tolist()):
+        if member_of(i) in index:
+            per_member[index[member_of(i)]] += volume
+    return per_member
 
 
 def _bridges(interactions, node, min_force, min_volume):
@@ -166,10 +171,9 @@ def _edges_over_ranks(node, min_force, min_volume):
     nothing), every rank joins the parts; the liquid per member from the collective
     viscbridge.liquid.distribution()."""
     from yade import O
-    from .. import liquid
     from .. import mpi
-    me = mpi.rank()
-    own = {b.id for b in O.bodies if b is not None and b.subdomain == me}
+    me = mpi.split_rank()
+    own = {b.id for b in O.bodies if b is not None and mpi.accounts_for_body(b, me)}
     members = [(m, O.bodies[m].state.mass) for m in sorted(own) if node.get(m) == m]
     touching = [I for I in O.interactions if I.isReal and (I.id1 in own or I.id2 in own)]
     with_liquid = any(hasattr(O.bodies[m].state, 'film') for m in own if node.get(m) is not None)
@@ -177,14 +181,8 @@ def _edges_over_ranks(node, min_force, min_volume):
     members = sorted(m for part, _, _ in parts for m in part)
     edges = sorted({tuple(sorted(e)) for _, part, _ in parts for e in part})
     ids = [m for m, _ in members]
-    if not any(wet for _, _, wet in parts):
-        return ids, edges, [mass for _, mass in members], None
-    spread = liquid.distribution()  # a collective: every rank takes this branch
-    per_member = numpy.zeros(len(ids))
-    index = {m: k for k, m in enumerate(ids)}
-    for i, volume in zip(spread.ids.tolist(), spread.liquid.tolist()):
-        if i in index:
-            per_member[index[i]] += volume
+    # every rank takes the same branch (the collective distribution); no clumps under mpy: a sphere is its member
+    per_member = _liquid_of(ids, lambda i: i) if any(wet for _, _, wet in parts) else None
     return ids, edges, [mass for _, mass in members], per_member
 
 
