@@ -171,6 +171,19 @@ def run_on_ranks(script, args, ranks):
             return json.load(fh)
 
 
+def rows_with_earlier(path, rows, key):
+    """The rows of the CSV at `path` whose key(row) none of `rows` has, then `rows`: a run of some
+    configurations keeps the others' earlier results.  key(row) must give the same for a row read
+    back from the CSV (text) as for the row that was written (numbers)."""
+    import csv
+    if not os.path.exists(path):
+        return list(rows)
+    measured = {key(r) for r in rows}
+    with open(path) as fh:
+        earlier = [{k: v for k, v in r.items() if v != ''} for r in csv.DictReader(fh)]
+    return [r for r in earlier if key(r) not in measured] + list(rows)
+
+
 def write_rows(path, rows):
     import csv
     os.makedirs(os.path.dirname(path), exist_ok=True)

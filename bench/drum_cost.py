@@ -59,15 +59,17 @@ def window_steps(n):
     return max(100, int(1e6 / n))
 
 
-def scene_path(model, n):
-    return os.path.join(CACHE, '%s_%d.yade.gz' % (model, n))
+def scene_path(model, n, viscosity=1.0):
+    """The landed bed's file; beds at scenes.drum's default viscosity (1 Pa·s) carry none in the name."""
+    mu = '' if viscosity == 1.0 else '_mu%g' % viscosity
+    return os.path.join(CACHE, '%s_%d%s.yade.gz' % (model, n, mu))
 
 
-def land(model, n, out):
+def land(model, n, viscosity, out):
     """Build the drum, let the bed land, save it; write what the measuring runs need to `out`."""
     from yade import O
     import viscbridge.scenes as scenes
-    drum = scenes.drum(radius=RADIUS, drumRadius=drum_radius(n), fill=FILL, liquidModel=model)
+    drum = scenes.drum(radius=RADIUS, drumRadius=drum_radius(n), fill=FILL, liquidModel=model, viscosity=viscosity)
     O.trackEnergy = False
     bottom = -drum.params['drumRadius']
     top = max(O.bodies[i].state.pos[2] for i in drum.spheres)
@@ -75,17 +77,17 @@ def land(model, n, out):
     start = time.perf_counter()
     drum.run(duration=landing)
     os.makedirs(CACHE, exist_ok=True)
-    O.save(scene_path(model, n))
+    O.save(scene_path(model, n, viscosity))
     json.dump(dict(spheres=len(drum.spheres), drumRadius=drum.params['drumRadius'], period=drum.period, rpm=drum.params['rpm'],
                    landing_time=landing, landing_steps=O.iter, landing_wall_seconds=time.perf_counter() - start), open(out, 'w'))
 
 
-def measure(model, n, out):
+def measure(model, n, viscosity, out):
     """One round: load the landed bed, WARM steps, then the window; the row to `out`."""
     from yade import O
     import yade.wrapper as yw
     import viscbridge.measures as measures
-    O.load(scene_path(model, n))
+    O.load(scene_path(model, n, viscosity))
     landed = dict(spheres=sum(1 for b in O.bodies if isinstance(b.shape, yw.Sphere)), landing_time=O.time, landing_steps=O.iter)
     O.run(WARM, True)
     steps = window_steps(n)
@@ -97,31 +99,35 @@ def measure(model, n, out):
 
 def period(n):
     """The revolution time of the drum of `n` spheres [s] (scenes.drum's default Froude number)."""
-    import inspect
-    import viscbridge.scenes as scenes
-    froude = inspect.signature(scenes.drum).parameters['froude'].default
-    return 2 * math.pi / math.sqrt(froude * 9.81 / drum_radius(n))
+    from viscbridge.scenes.drum import DEFAULT_FROUDE, G
+    return 2 * math.pi / math.sqrt(DEFAULT_FROUDE * G / drum_radius(n))
 
 
-def worker(action, model, n):
+def worker(action, model, n, viscosity=1.0):
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, 'r.json')
-        done = subprocess.run(['yade', '-n', '-j1', '-x', os.path.join(HERE, 'drum_cost.py'), '--' + action, model, str(n), out],
+        done = subprocess.run(['yade', '-n', '-j1', '-x', os.path.join(HERE, 'drum_cost.py'), '--' + action, model, str(n), repr(viscosity), out],
                               capture_output=True, text=True)
         if done.returncode != 0 or not os.path.exists(out):
             raise RuntimeError('drum_cost %s %s %d failed:\n%s' % (action, model, n, done.stdout[-3000:] + done.stderr[-3000:]))
         return json.load(open(out))
 
 
+def ensure_landed(model, n, viscosity=1.0, reland=False):
+    """The bed of `n` spheres with `model` liquid at `viscosity` landed and saved, unless it was before."""
+    path = scene_path(model, n, viscosity)
+    if reland or not os.path.exists(path):
+        r = worker('land', model, n, viscosity)
+        print('%-5s %6d spheres μ=%g landed: %d steps, %.3f s simulated, %.0f s wall' % (
+            model, r['spheres'], viscosity, r['landing_steps'], r['landing_time'], r['landing_wall_seconds']), flush=True)
+    else:
+        print('%-5s %6d spheres μ=%g: landed bed reused (%s; --reland to make it anew)' % (model, n, viscosity, path), flush=True)
+
+
 def main(configs, rounds, reland=False):
     began = time.perf_counter()
     for c in configs:
-        if reland or not os.path.exists(scene_path(*c)):
-            r = worker('land', *c)
-            print('%-5s %6d spheres landed: %d steps, %.3f s simulated, %.0f s wall' % (
-                c[0], r['spheres'], r['landing_steps'], r['landing_time'], r['landing_wall_seconds']), flush=True)
-        else:
-            print('%-5s %6d spheres: landed bed reused (%s; --reland to make it anew)' % (c[0], c[1], scene_path(*c)), flush=True)
+        ensure_landed(*c, reland=reland)
     landed = {}
     samples = {c: [] for c in configs}
     for r in range(rounds):
@@ -155,7 +161,7 @@ def main(configs, rounds, reland=False):
 if os.path.basename(sys.argv[0]) != 'drum_cost.py':
     pass  # imported (tests, another bench): nothing to run
 elif len(sys.argv) > 1 and sys.argv[1] in ('--land', '--measure'):
-    (land if sys.argv[1] == '--land' else measure)(sys.argv[2], int(sys.argv[3]), sys.argv[4])
+    (land if sys.argv[1] == '--land' else measure)(sys.argv[2], int(sys.argv[3]), float(sys.argv[4]), sys.argv[5])
 else:
     args, sizes, models, rounds, reland = sys.argv[1:], [], list(MODELS), ROUNDS, False
     while args:

@@ -27,6 +27,7 @@ from ..engine_list import bridge_parameters, check_accuracy, engines
 __all__ = ['drum', 'Drum', 'UNITS']
 
 G = 9.81
+DEFAULT_FROUDE = 0.05  # the drum's speed when neither froude nor rpm is given
 _TAG = 'viscbridge.drum'  # the O.tags entry of a drum's parameters (Drum.current)
 
 #: The unit of each parameter of :func:`drum` ('' for a number without unit or a name); the Ip2's
@@ -177,12 +178,12 @@ def drum(radius=1e-3, drumRadius=None, length=None, fill=0.35, n=None, froude=No
     segments = _checks.integer(f, 'segments', segments, minimum=8)
     check_accuracy(accuracy, True, func=f)
     if rpm is not None and froude is not None:
-        raise ValueError('drum: froude=%r and rpm=%r both set the speed; give one of them (neither: froude=0.05)' % (froude, rpm))
+        raise ValueError('drum: froude=%r and rpm=%r both set the speed; give one of them (neither: froude=%g)' % (froude, rpm, DEFAULT_FROUDE))
     if rpm is not None:
         omega = _checks.positive(f, 'rpm', rpm) * 2 * math.pi / 60
         froude = omega ** 2 * drumRadius / G
     else:
-        froude = 0.05 if froude is None else froude
+        froude = DEFAULT_FROUDE if froude is None else froude
         omega = math.sqrt(_checks.in_range(f, 'froude', froude, 0, 1, lo_open=True) * G / drumRadius)
     if n is None:
         n = int(round(fill * math.pi * drumRadius ** 2 * length * 0.6 / (4 / 3 * math.pi * radius ** 3)))
