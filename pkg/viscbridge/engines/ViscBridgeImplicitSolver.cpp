@@ -32,6 +32,7 @@ void ViscBridgeImplicitSolver::preSave(ViscBridgeImplicitSolver&)
 	stepErrorIter         = -1; // compares with none, and the stepper takes that step's raw error
 	lastFilterIter        = -1; // and filters (A1d: the loaded run has no share of a last filter)
 	filteredShare         = std::numeric_limits<Real>::quiet_NaN();
+	freshPersisting       = std::numeric_limits<Real>::quiet_NaN();
 	const auto saved      = Omega::instance().getScene(); // the scene being saved (Engine::scene can be stale)
 	noCoefficientChangeAt = saved ? saved->iter : -1;
 }

@@ -89,8 +89,9 @@ class ViscBridgeImplicitSolver : public GlobalEngine, public StepErrorSource {
 	// A1d: the filters every errorFilterInterval steps, and the share of the step's error the last one kept
 	long lastFilterIter  = -1;
 	Real filteredShare   = std::numeric_limits<Real>::quiet_NaN(); // Σ m|F²u|² / Σ m|Fu|²
+	Real freshPersisting = std::numeric_limits<Real>::quiet_NaN(); // A1c: stepCarriedSq / Σ m|fresh|² at the last full filter
 	Real lastEstimatedDt = 0;
-	bool filterIsDue(bool stepErrorNow);
+	bool filterIsDue(bool stepErrorNow, bool freshNow);
 	static void storeRelaxed(const std::vector<Body::id_t>& ids, const Eigen::VectorXd& relaxed, std::vector<Vector3r>& perBody);
 
 public:

@@ -20,43 +20,50 @@ using namespace implicit_solver;
 // filtered twice by its system, and the leapfrog's offsets, the carried errors and the history's
 // error relaxed once by it (at a jump of the model, the step's error is its own: stepErrorOf).
 // Each filter is one application of the lagged Cholesky factor (or a CG solve with another
-// preconditioner); the error's first filter, the offsets and the carried errors share one (a sweep
-// over a large factor is memory-bound: four columns cost little more than one).  The offsets and
-// the carried errors are checked by one product each and refined by CG where the factor lags this
-// step's matrix: a lagged factor would not relax what the bridges' new coefficients relax, and A1b
+// preconditioner); the error's first filter, the offsets, the history and the carried errors share
+// one (one sweep for several columns costs less than a sweep each: five took 2.7 single sweeps' time
+// on the 300-sphere settling bed).  The offsets, the history and the carried errors' sum are checked
+// by one product each and refined by CG where the factor lags this step's matrix: a lagged factor would not relax what the bridges' new coefficients relax, and A1b
 // and A1c carry on what it keeps (this step's solve taking one iteration does not tell: its warm
 // start hides the lag; the stiffening pair's estimate moved 4-fold when the check was skipped on
 // it, and a capillary pair whose gap closed 200-fold since the factorisation kept offsets as large
 // as its speed, an estimate 850x its true error).  A1d: all of it every errorFilterInterval steps;
-// in between, the factor alone relaxes the offsets and the carried errors (their sum checked) and
-// filters the step's error once, the second filter taken at the share the last full one kept.
+// in between, the factor alone relaxes the offsets, and the carried errors in one column (their
+// sum, checked), and filters the step's error once, the second filter taken at the share the last
+// full one kept, the persisting share of the carried errors' step part at the one it found.
 void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
                                                  const std::vector<vb::BridgeResistance>& R, const vb::Preconditioner* pre)
 {
 	const std::vector<Body::id_t>& ids = g.ids;
 	Eigen::VectorXd                u, o, h, carried, fresh;
 	const bool                     estimated = stepErrorOf(sys, ids, x, u);
-	const bool                     full      = filterIsDue(estimated && !u.isZero(0));
 	const bool                     relax     = offsetsOf(ids, sys.size(), o);
 	const bool                     history   = historyOf(ids, sys.size(), h);
 	const bool                     carry     = carriedErrorsOf(sys, g, x, R, carried, fresh);
+	Real                           freshSq   = 0; // Σ m|fresh|²
+	for (size_t i = 0; i < ids.size() && carry; ++i)
+		freshSq += sys.bodies()[i].mass * fresh.segment<3>(6 * static_cast<long>(i)).squaredNorm();
+	const bool full = filterIsDue(estimated && !u.isZero(0), freshSq > 0);
 	stepErrorCovered.assign(scene->bodies->size(), 0);
 	stepErrorSq = stepCarriedSq = 0;
 	stepErrorIter               = -1;
 	if (full) lastFilterIter = scene->iter, ++estimateFilters;
-	// the columns: [u] [o] [h] [carried fresh], filtered together with the factor
-	const long atO = long(estimated), atH = atO + long(relax), atCarried = atH + long(history), columns = atCarried + 2 * long(carry);
+	// the columns: [u] [o] [h] [carried fresh], filtered together with the factor; between full
+	// filters the carried errors' two columns are one, their sum (A1d)
+	const long atO = long(estimated), atH = atO + long(relax), atCarried = atH + long(history);
+	const long carriedColumns = carry ? (full ? 2 : 1) : 0, columns = atCarried + carriedColumns;
 	const bool      factor = pre && preconditionerInUse == cholesky;
 	Eigen::MatrixXd in(sys.size(), columns), out;
 	if (columns > 0) {
 		if (estimated) in.col(0) = u;
 		if (relax) in.col(atO) = o;
 		if (history) in.col(atH) = h;
-		if (carry) in.col(atCarried) = carried, in.col(atCarried + 1) = fresh;
+		if (carriedColumns == 2) in.col(atCarried) = carried, in.col(atCarried + 1) = fresh;
+		if (carriedColumns == 1) in.col(atCarried) = carried + fresh;
 		if (factor) sys.filterColumns(in, out, 1e-3, 100, pre, true);
 		else filteredApart(sys, in, out, atCarried, pre);
 	}
-	for (long c = atO; c < columns && factor && full; ++c) { // CG from the factor's answer: one product where it holds
+	for (long c = atO; c < atCarried && factor && full; ++c) { // CG from the factor's answer: one product where it holds
 		Eigen::VectorXd y = out.col(c);
 		sys.filter(in.col(c), y, 1e-2, 100, pre, false);
 		out.col(c) = y;
@@ -64,23 +71,26 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 	if (relax) storeRelaxed(ids, out.col(atO), ViscBridgeContext::of(scene).velocityOffset);
 	if (estimated) storeHistory(ids, history ? Eigen::VectorXd(out.col(atH)) : h, out.col(0));
 	if (carry) {
-		Eigen::VectorXd relaxed = out.col(atCarried) + out.col(atCarried + 1);
-		if (factor && !full) // between filters their sum alone is checked: a factor of a stiffer network over-relaxes it
-			sys.filter(in.col(atCarried) + in.col(atCarried + 1), relaxed, 1e-2, 100, pre, false);
+		Eigen::VectorXd relaxed = out.col(atCarried);
+		if (carriedColumns == 2) relaxed += out.col(atCarried + 1);
+		if (factor) // the carried errors' sum alone is checked at every step: a factor of a stiffer network over-relaxes it
+			sys.filter(carried + fresh, relaxed, 1e-2, 100, pre, false);
 		storeCarried(ids, relaxed);
 	}
 	if (!estimated) return;
 	Real onceSq = 0; // Σ m|Fu|²
 	for (size_t i = 0; i < ids.size(); ++i) {
 		const auto at = 6 * static_cast<long>(i);
-		onceSq += sys.bodies()[i].mass * out.col(0).segment<3>(at).squaredNorm();
+		const Real m  = sys.bodies()[i].mass;
+		onceSq += m * out.col(0).segment<3>(at).squaredNorm();
 		// the step's own share of A1c apart: it is what a smaller step makes smaller (the controller's
-		// measure, A4), while the error carried from earlier steps is made
-		if (carry)
-			stepCarriedSq += sys.bodies()[i].mass
-			        * std::pow(vb::persistingShare(in.col(atCarried + 1).segment<3>(at).norm(), out.col(atCarried + 1).segment<3>(at).norm()), 2);
+		// measure, A4), while the error carried from earlier steps is made; between full filters at
+		// the share of the fresh error the last one found persisting (A1d)
+		if (carry && full) stepCarriedSq += m * std::pow(vb::persistingShare(fresh.segment<3>(at).norm(), out.col(atCarried + 1).segment<3>(at).norm()), 2);
 		stepErrorCovered[ids[i]] = 1;
 	}
+	if (full && freshSq > 0) freshPersisting = stepCarriedSq / freshSq;
+	if (!full && freshSq > 0) stepCarriedSq = freshPersisting * freshSq;
 	stepErrorIter = scene->iter;
 	if (!full) {
 		stepErrorSq = onceSq > 0 ? filteredShare * onceSq : 0;
@@ -97,15 +107,17 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 }
 
 // A1d: a filter is due every errorFilterInterval steps (the time stepper's choice), where the last
-// one's share is not known for the error this step has, and at a step whose Δt moved by more than 1 %
-// from the last one's: the offsets (A1b) it makes need this step's matrix, not only the lagged
-// factor (a capillary pair whose Δt grew, test_accuracy: 3× its estimate at a constant Δt).
-bool ViscBridgeImplicitSolver::filterIsDue(bool stepErrorNow)
+// one's share is not known for the error this step has (A1a's second filter, the persisting share
+// of A1c's step part), and at a step whose Δt moved by more than 1 % from the last one's: the
+// offsets (A1b) it makes need this step's matrix, not only the lagged factor (a capillary pair
+// whose Δt grew, test_accuracy: 3× its estimate at a constant Δt).
+bool ViscBridgeImplicitSolver::filterIsDue(bool stepErrorNow, bool freshNow)
 {
 	const int  interval = ViscBridgeContext::of(scene).errorFilterInterval;
 	const bool dtMoved  = !(std::abs(scene->dt - lastEstimatedDt) <= 0.01 * scene->dt);
 	lastEstimatedDt     = scene->dt;
-	return interval <= 1 || lastFilterIter < 0 || scene->iter - lastFilterIter >= interval || (stepErrorNow && !std::isfinite(filteredShare)) || dtMoved;
+	const bool noShare  = (stepErrorNow && !std::isfinite(filteredShare)) || (freshNow && !std::isfinite(freshPersisting));
+	return interval <= 1 || lastFilterIter < 0 || scene->iter - lastFilterIter >= interval || noShare || dtMoved;
 }
 
 // Without the factor, each column by CG: the step's error and the offsets (the columns before
