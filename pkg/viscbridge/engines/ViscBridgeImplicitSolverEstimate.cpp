@@ -43,15 +43,20 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 	Real                           freshSq   = 0; // Σ m|fresh|²
 	for (size_t i = 0; i < ids.size() && carry; ++i)
 		freshSq += sys.bodies()[i].mass * fresh.segment<3>(6 * static_cast<long>(i)).squaredNorm();
-	const bool full = filterIsDue(estimated && !u.isZero(0), freshSq > 0);
+	// the step part's persisting share at the last full filter's serves stepError alone: the
+	// controller (a tolerance) needs this step's (a capillary pair's controlled run took 20× the
+	// steps with the share)
+	const bool shared = !ViscBridgeContext::of(scene).controllerReadsFreshError;
+	const bool full   = filterIsDue(estimated && !u.isZero(0), shared && freshSq > 0);
 	stepErrorCovered.assign(scene->bodies->size(), 0);
 	stepErrorSq = stepCarriedSq = 0;
 	stepErrorIter               = -1;
 	if (full) lastFilterIter = scene->iter, ++estimateFilters;
 	// the columns: [u] [o] [h] [carried fresh], filtered together with the factor; between full
-	// filters the carried errors' two columns are one, their sum (A1d)
+	// filters, where the share serves, the carried errors' two columns are one, their sum (A1d)
 	const long atO = long(estimated), atH = atO + long(relax), atCarried = atH + long(history);
-	const long carriedColumns = carry ? (full ? 2 : 1) : 0, columns = atCarried + carriedColumns;
+	const bool merged         = shared && !full;
+	const long carriedColumns = carry ? (merged ? 1 : 2) : 0, columns = atCarried + carriedColumns;
 	const bool      factor = pre && preconditionerInUse == cholesky;
 	Eigen::MatrixXd in(sys.size(), columns), out;
 	if (columns > 0) {
@@ -63,7 +68,10 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 		if (factor) sys.filterColumns(in, out, 1e-3, 100, pre, true);
 		else filteredApart(sys, in, out, atCarried, pre);
 	}
-	for (long c = atO; c < atCarried && factor && full; ++c) { // CG from the factor's answer: one product where it holds
+	// at full filters, CG from the factor's answer (one product where it holds) for the offsets, the
+	// history and, where the controller reads the step part, each carried column; else their sum below
+	const long checkedUpTo = !full ? atO : shared ? atCarried : columns;
+	for (long c = atO; c < checkedUpTo && factor; ++c) {
 		Eigen::VectorXd y = out.col(c);
 		sys.filter(in.col(c), y, 1e-2, 100, pre, false);
 		out.col(c) = y;
@@ -73,7 +81,7 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 	if (carry) {
 		Eigen::VectorXd relaxed = out.col(atCarried);
 		if (carriedColumns == 2) relaxed += out.col(atCarried + 1);
-		if (factor) // the carried errors' sum alone is checked at every step: a factor of a stiffer network over-relaxes it
+		if (factor && checkedUpTo < columns) // their sum checked: a factor of a stiffer network over-relaxes it
 			sys.filter(carried + fresh, relaxed, 1e-2, 100, pre, false);
 		storeCarried(ids, relaxed);
 	}
@@ -86,11 +94,11 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 		// the step's own share of A1c apart: it is what a smaller step makes smaller (the controller's
 		// measure, A4), while the error carried from earlier steps is made; between full filters at
 		// the share of the fresh error the last one found persisting (A1d)
-		if (carry && full) stepCarriedSq += m * std::pow(vb::persistingShare(fresh.segment<3>(at).norm(), out.col(atCarried + 1).segment<3>(at).norm()), 2);
+		if (carry && !merged) stepCarriedSq += m * std::pow(vb::persistingShare(fresh.segment<3>(at).norm(), out.col(atCarried + 1).segment<3>(at).norm()), 2);
 		stepErrorCovered[ids[i]] = 1;
 	}
-	if (full && freshSq > 0) freshPersisting = stepCarriedSq / freshSq;
-	if (!full && freshSq > 0) stepCarriedSq = freshPersisting * freshSq;
+	if (!merged && freshSq > 0) freshPersisting = stepCarriedSq / freshSq;
+	if (merged && freshSq > 0) stepCarriedSq = freshPersisting * freshSq;
 	stepErrorIter = scene->iter;
 	if (!full) {
 		stepErrorSq = onceSq > 0 ? filteredShare * onceSq : 0;

@@ -227,6 +227,7 @@ void ViscBridgeTimeStepper::computeTimeStep(Scene* sc)
 	// A1d: the solver filters the estimate every step while the controller holds dt or is within 4×
 	// of it (between filters, its step error follows the raw error at the last filter's share)
 	ViscBridgeContext::of(sc).errorFilterInterval = accuracy > 0 && !(accuracyStepNow >= 4 * dt) ? 1 : errorFilterInterval;
+	ViscBridgeContext::of(sc).controllerReadsFreshError = accuracy > 0;
 	if (!std::isfinite(dt)) return; // nothing to bound (no dynamic spheres, no contacts): keep dt
 	if (!(dt > 0))
 		throw std::runtime_error("ViscBridgeTimeStepper: the time-step bound is " + viscbridge::formatValue(dt) + " s at body #"

@@ -109,6 +109,10 @@ public:
 	// [accuracy] Steps between the implicit solver's full filters of the estimate (physics.md A1d),
 	// set by the time stepper each step: 1 while its accuracy controller holds Δt.
 	int errorFilterInterval = 1;
+	// [accuracy] Whether the time stepper's accuracy controller reads the step's own part of the
+	// carried errors (A4: with a tolerance); else only stepError shows it, and the solver may take it
+	// at the last full filter's share between full filters (A1d).
+	bool controllerReadsFreshError = true;
 	// An offset relaxed step after step decays towards subnormal numbers, which slow every sweep of
 	// the factor that relaxes it ~10× (measured: 4 applications' time on the settling bench); far
 	// below any velocity a run resolves, it is none.
