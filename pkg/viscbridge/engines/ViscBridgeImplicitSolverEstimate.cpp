@@ -22,15 +22,16 @@ using namespace implicit_solver;
 // Each filter is one application of the lagged Cholesky factor (or a CG solve with another
 // preconditioner); the error's first filter, the offsets, the history and the carried errors share
 // one (one sweep for several columns costs less than a sweep each: five took 2.7 single sweeps' time
-// on the 300-sphere settling bed).  The offsets, the history and the carried errors' sum are checked
-// by one product each and refined by CG where the factor lags this step's matrix: a lagged factor would not relax what the bridges' new coefficients relax, and A1b
-// and A1c carry on what it keeps (this step's solve taking one iteration does not tell: its warm
-// start hides the lag; the stiffening pair's estimate moved 4-fold when the check was skipped on
-// it, and a capillary pair whose gap closed 200-fold since the factorisation kept offsets as large
-// as its speed, an estimate 850x its true error).  A1d: all of it every errorFilterInterval steps;
-// in between, the factor alone relaxes the offsets, and the carried errors in one column (their
-// sum, checked), and filters the step's error once, the second filter taken at the share the last
-// full one kept, the persisting share of the carried errors' step part at the one it found.
+// on the 300-sphere settling bed).  The offsets, the history and the carried errors are checked by
+// one product each and refined by CG where the factor lags this step's matrix: a lagged factor
+// would not relax what the bridges' new coefficients relax, and A1b and A1c carry on what it keeps
+// (this step's solve taking one iteration does not tell: its warm start hides the lag; the
+// stiffening pair's estimate moved 4-fold when the check was skipped on it, and a capillary pair
+// whose gap closed 200-fold since the factorisation kept offsets as large as its speed, an
+// estimate 850x its true error).  A1d: all of it every errorFilterInterval steps; in between, the
+// factor alone relaxes the offsets and the carried errors (their sum checked; without a tolerance
+// in one column, the persisting share of their step part taken at the one the last full filter
+// found) and filters the step's error once, the second filter taken at the share it kept.
 void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem& sys, const Gathered& g, const Eigen::VectorXd& x,
                                                  const std::vector<vb::BridgeResistance>& R, const vb::Preconditioner* pre)
 {
@@ -94,7 +95,8 @@ void ViscBridgeImplicitSolver::estimateStepError(const vb::ImplicitViscousSystem
 		// the step's own share of A1c apart: it is what a smaller step makes smaller (the controller's
 		// measure, A4), while the error carried from earlier steps is made; between full filters at
 		// the share of the fresh error the last one found persisting (A1d)
-		if (carry && !merged) stepCarriedSq += m * std::pow(vb::persistingShare(fresh.segment<3>(at).norm(), out.col(atCarried + 1).segment<3>(at).norm()), 2);
+		if (carry && !merged)
+			stepCarriedSq += m * std::pow(vb::persistingShare(fresh.segment<3>(at).norm(), out.col(atCarried + 1).segment<3>(at).norm()), 2);
 		stepErrorCovered[ids[i]] = 1;
 	}
 	if (!merged && freshSq > 0) freshPersisting = stepCarriedSq / freshSq;
