@@ -54,6 +54,20 @@ def test_nan_is_stopped_and_names_the_body(bed, run_error):
     assert re.search(r'body #%d has a NaN or inf position or velocity' % victim, run_error(20))
 
 
+def test_nan_on_a_wall_is_stopped_and_names_the_wall(bed, run_error):
+    """A body whose motion is prescribed takes no part in the energy sums: gone NaN, it would let
+    the spheres fall through it without a word."""
+    wet_bed(bed, mu=1.0)
+    O.dt = 1e-9
+    O.run(10, True)
+    wall = next(b.id for b in O.bodies if not b.dynamic)
+    O.bodies[wall].state.vel = (float('nan'), 0, 0)
+    start = O.iter
+    msg = run_error(50)
+    assert re.search(r'body #%d, whose motion is prescribed .* has a NaN or inf position or velocity' % wall, msg), msg
+    assert O.iter - start <= 2 * guard().iterPeriod
+
+
 def test_a_stable_run_is_left_alone(bed):
     wet_bed(bed, mu=1.0)
     O.engines = O.engines + []  # the guard of wet_bed, with the stepper back in

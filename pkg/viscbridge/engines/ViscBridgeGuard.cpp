@@ -205,6 +205,15 @@ void ViscBridgeGuard::checkEnergy()
 		kinetic += kineticEnergyAtPositions(*b, *scene, g, /*upper*/ false);
 		if (k < nStart) gravityWork += st.mass * g.dot(st.pos - startPos[k]);
 	}
+	// a wall or other body whose motion is prescribed, gone NaN, takes no part in the sums (its work
+	// is skipped as at a first call, the collider drops its contacts): spheres would pass through it
+	Body::id_t brokenBoundary = -1;
+	for (const Body::id_t id : kinematic)
+		if (const auto& b = Body::byId(id, scene); b && !(b->state->pos.allFinite() && b->state->vel.allFinite() && b->state->angVel.allFinite())) {
+			brokenBoundary = id;
+			finite         = false;
+			break;
+		}
 	// what moving bodies and capillary attraction (minus its booked work, P21) have put in
 	const InteractionEnergy interactions = interactionEnergy();
 	Real elastic = finite ? interactions.elastic : 0, work = boundaryWork - (interactions.capillary - capillaryAtReference);
@@ -220,7 +229,12 @@ void ViscBridgeGuard::checkEnergy()
 	Real        mechanical = 0;
 	if (finite) {
 		mechanical = kinetic + elastic;
-		if (!std::isfinite(mechanical) || mechanical > energyIn + (energyMargin - 1) * peakEnergyIn + energyFloor)
+		// a NaN on either side fails every comparison: it is a stop of its own, not an excess
+		if (!std::isfinite(mechanical) || !std::isfinite(energyIn))
+			what = "the energy balance is not a finite number: the kinetic + elastic energy is " + fmt(mechanical)
+			        + " J against what the scene had at step " + std::to_string(referenceIter) + " plus the work of gravity and moving bodies since, "
+			        + fmt(energyIn) + " J (a NaN or inf velocity, position or force)";
+		else if (mechanical > energyIn + (energyMargin - 1) * peakEnergyIn + energyFloor)
 			what = "the kinetic + elastic energy " + fmt(mechanical) + " J exceeds what the scene had at step " + std::to_string(referenceIter)
 			        + " plus the work of gravity and moving bodies since, " + fmt(energyIn) + " J, by more than " + fmt(energyMargin - 1)
 			        + " × the most it held since (" + fmt(peakEnergyIn) + " J)";
@@ -231,9 +245,12 @@ void ViscBridgeGuard::checkEnergy()
 		return;
 	}
 	// the body with a NaN/inf, else the one with the most kinetic energy
-	Body::id_t culprit = -1;
-	Real       most    = -1;
-	for (const auto& b : *scene->bodies) {
+	Body::id_t culprit = brokenBoundary;
+	Real       most    = brokenBoundary >= 0 ? std::numeric_limits<Real>::infinity() : -1;
+	if (brokenBoundary >= 0)
+		what = "body #" + std::to_string(brokenBoundary) + ", whose motion is prescribed (a wall, a facet or a body with blocked degrees of freedom), has a NaN or inf position or velocity";
+	for (const auto& b : *scene->bodies) { // (a broken boundary is the cause of any NaN its contacts spread)
+		if (brokenBoundary >= 0) break;
 		if (!b || !counted(*b) || !own.body(*b)) continue;
 		const State& st = *b->state;
 		if (!(st.pos.allFinite() && st.vel.allFinite() && st.angVel.allFinite())) {
