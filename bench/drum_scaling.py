@@ -87,10 +87,8 @@ def solver_counts(before):
                 **{k + '_per_step': (now[k] - before[k]) / solves for k in common.SOLVER_TIMES})
 
 
-def phase_row(phase, seconds, dt, shares, n, period):
+def phase_row(phase, seconds, dt, shares):
     return {phase + '_seconds_per_step': seconds, phase + '_dt': dt,
-            phase + '_microseconds_per_sphere_step': 1e6 * seconds / n,
-            phase + '_hours_per_revolution': period / dt * seconds / 3600,
             phase + '_stepper_share': shares.get('ViscBridgeTimeStepper', 0.0),
             phase + '_guard_share': shares.get('ViscBridgeGuard', 0.0)}
 
@@ -116,26 +114,24 @@ def measure(model, n, mu, out):
     import viscbridge.measures as measures
     O.load(drum_cost.scene_path(model, n, mu))
     spheres = sum(1 for b in O.bodies if isinstance(b.shape, yw.Sphere))
-    period = drum_cost.period(n)
     steps = drum_cost.window_steps(n)
     row = dict(liquidModel=model, spheres=spheres, viscosity=mu, window_steps=steps, threads=O.numThreads)
     O.run(WARM, True)
     before = solver_counts(None)
     seconds, dt, shares = timed_window(steps)
-    row.update(phase_row('implicit', seconds, dt, shares, spheres, period), bridges=measures.bridge_count(),
+    row.update(phase_row('implicit', seconds, dt, shares), bridges=measures.bridge_count(),
                solver_share=shares.get('ViscBridgeImplicitSolver', 0.0), **solver_counts(before))
     law = next(f for e in O.engines if isinstance(e, yw.InteractionLoop) for f in e.lawDispatcher.functors)
     law.integration = 'explicit'  # the scene explicit as a user would run it: without the implicit solver
     O.engines = [e for e in O.engines if not isinstance(e, yw.ViscBridgeImplicitSolver)]
     O.run(WARM, True)
     seconds, dt, shares = timed_window(steps)
-    row.update(phase_row('explicit', seconds, dt, shares, spheres, period))
+    row.update(phase_row('explicit', seconds, dt, shares))
     O.interactions.clear()
     O.engines = yade_dry_engines()
     O.run(WARM, True)
     seconds, _, _ = timed_window(steps)
-    row.update(yade_dry_seconds_per_step=seconds, yade_dry_microseconds_per_sphere_step=1e6 * seconds / spheres,
-               peak_rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
+    row.update(yade_dry_seconds_per_step=seconds, peak_rss_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
     json.dump(row, open(out, 'w'))
 
 
@@ -164,8 +160,8 @@ def summary(configs, samples):
             key = phase + '_seconds_per_step'
             fastest = min(runs, key=lambda r: r[key])
             row[key], row[phase + '_seconds_per_step_slowest'] = fastest[key], max(r[key] for r in runs)
-        row['explicit_microseconds_per_sphere_step'] = 1e6 * row['explicit_seconds_per_step'] / row['spheres']
-        row['yade_dry_microseconds_per_sphere_step'] = 1e6 * row['yade_dry_seconds_per_step'] / row['spheres']
+        for phase in ('implicit', 'explicit', 'yade_dry'):
+            row[phase + '_microseconds_per_sphere_step'] = 1e6 * row[phase + '_seconds_per_step'] / row['spheres']
         row['implicit_over_explicit_step'] = row['implicit_seconds_per_step'] / row['explicit_seconds_per_step']
         row['explicit_over_yade_dry_step'] = row['explicit_seconds_per_step'] / row['yade_dry_seconds_per_step']
         period = drum_cost.period(c[1])
