@@ -76,12 +76,14 @@ def configuration(arg):
     return model or 'fixed', int(n)
 
 
-def earlier_rows():
-    """The rows of the CSV as it is (an older one without the model column: 'fixed')."""
-    if not os.path.exists(OUT):
-        return []
-    with open(OUT) as fh:
-        return [dict({k: v for k, v in r.items() if v != ''}, model=r.get('model') or 'fixed') for r in csv.DictReader(fh)]
+def configuration_key(row):
+    """What a row measured (a row of an older CSV without the model column: the fixed liquid)."""
+    return row.get('model') or 'fixed', int(float(row['spheres'])), int(float(row['ranks']))
+
+
+def numeric(row):
+    """A row with its numbers as numbers (those read back from the CSV are text)."""
+    return {k: float(v) if k != 'model' and isinstance(v, str) and v else v for k, v in row.items()}
 
 
 def model(rows, liquid='fixed'):
@@ -124,7 +126,7 @@ if len(sys.argv) > 1 and sys.argv[1] == '--worker':
     worker(sys.argv[2], int(sys.argv[3]), sys.argv[4])
 elif len(sys.argv) > 1 and sys.argv[1] == '--model':  # the model of the last measurement (the CSV)
     with open(OUT) as fh:
-        report_model([{k: float(v) if v and k != 'model' else v for k, v in r.items()} for r in csv.DictReader(fh)])
+        report_model([numeric(r) for r in csv.DictReader(fh)])
 else:
     configs = [configuration(a) for a in sys.argv[1:]] or [('fixed', 1000), ('fixed', 3000)]
     for c in configs:
@@ -144,7 +146,6 @@ else:
             rows.append(dict(done[0], rounds=len(done), slowest_seconds_per_step=done[-1]['seconds_per_step'],
                              speedup=serial / done[0]['seconds_per_step'],
                              mpy_overhead_per_step=done[0]['seconds_per_step'] - serial if ranks == 2 else ''))
-    measured = {(r['model'], int(r['spheres']), int(r['ranks'])) for r in rows}
-    kept = [r for r in earlier_rows() if (r['model'], int(float(r['spheres'])), int(float(r['ranks']))) not in measured]
-    print('wrote', common.write_rows(OUT, kept + rows))
-    report_model([{k: float(v) if k != 'model' else v for k, v in r.items()} for r in kept] + rows)
+    rows = common.rows_with_earlier(OUT, rows, configuration_key)
+    print('wrote', common.write_rows(OUT, rows))
+    report_model([numeric(r) for r in rows])
